@@ -1,0 +1,14 @@
+#pragma once
+// Subcommands of the tkgslam CLI. Each registers its options and returns the action to run.
+#include <functional>
+
+#include <CLI/CLI.hpp>
+
+namespace tkgslam::app {
+
+using Action = std::function<int()>;
+
+Action addEvalCommand(CLI::App& app);
+Action addRunCommand(CLI::App& app);
+
+}  // namespace tkgslam::app

@@ -1,0 +1,98 @@
+// tkgslam eval GT EST: ATE and RPE exactly as the TUM benchmark scripts compute them.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "Commands.h"
+#include "tkgslam/common/Error.h"
+#include "tkgslam/eval/Ate.h"
+#include "tkgslam/eval/Rpe.h"
+#include "tkgslam/eval/TrajectoryPlot.h"
+#include "tkgslam/io/TumDataset.h"
+
+namespace tkgslam::app {
+
+namespace {
+
+struct EvalOptions {
+  std::string gt, est, frames, plot;
+  bool json = false;
+  double delta = 1.0;
+};
+
+std::string statsJson(const eval::ErrorStatistics& s) {
+  return fmt::format(
+      "{{\"count\": {}, \"rmse\": {:.6f}, \"mean\": {:.6f}, \"median\": {:.6f}, \"std\": {:.6f}, "
+      "\"min\": {:.6f}, \"max\": {:.6f}}}",
+      s.count, s.rmse, s.mean, s.median, s.std, s.min, s.max);
+}
+
+void printStats(const char* name, const char* unit, const eval::ErrorStatistics& s) {
+  std::printf("%s: pairs %d  rmse %.4f  mean %.4f  median %.4f  std %.4f  min %.4f  max %.4f %s\n", name,
+              s.count, s.rmse, s.mean, s.median, s.std, s.min, s.max, unit);
+}
+
+/// Number of input frames: lines of an image list, or of DIR/rgb.txt.
+int countInputFrames(const std::string& path) {
+  namespace fs = std::filesystem;
+  const fs::path list = fs::is_directory(path) ? fs::path(path) / "rgb.txt" : fs::path(path);
+  std::ifstream in(list);
+  if (!in) throw InputError(fmt::format("cannot open frame list '{}'", list.string()));
+  return int(io::parseTumImageList(in, list.string()).size());
+}
+
+int runEval(const EvalOptions& o) {
+  const auto gt = io::readTumTrajectory(o.gt);
+  const auto est = io::readTumTrajectory(o.est);
+  if (gt.empty()) throw InputError(fmt::format("ground truth '{}' has no poses", o.gt));
+  if (est.empty()) throw InputError(fmt::format("estimate '{}' has no poses", o.est));
+  const auto ate = eval::computeAte(gt, est);
+  const auto rpe = eval::computeRpe(gt, est, o.delta);
+  double tracked_ratio = -1;
+  int input_frames = 0;
+  if (!o.frames.empty()) {
+    input_frames = countInputFrames(o.frames);
+    tracked_ratio = input_frames > 0 ? double(est.size()) / input_frames : 0.0;
+  }
+  if (!o.plot.empty()) eval::writeTrajectorySvg(o.plot, ate, std::filesystem::path(o.est).filename().string());
+  if (o.json) {
+    std::printf("{\"ground_truth\": \"%s\", \"estimate\": \"%s\", \"estimate_poses\": %zu,\n", o.gt.c_str(),
+                o.est.c_str(), est.size());
+    std::printf(" \"ate_m\": %s,\n", statsJson(ate.stats).c_str());
+    std::printf(" \"rpe_delta_s\": %.3f,\n \"rpe_translation_m\": %s,\n \"rpe_rotation_deg\": %s", o.delta,
+                statsJson(rpe.translation).c_str(), statsJson(rpe.rotation_deg).c_str());
+    if (tracked_ratio >= 0) {
+      std::printf(",\n \"input_frames\": %d, \"tracked_ratio\": %.6f", input_frames, tracked_ratio);
+    }
+    std::printf("}\n");
+  } else {
+    std::printf("estimate poses: %zu, ground-truth poses: %zu\n", est.size(), gt.size());
+    printStats("ATE", "m", ate.stats);
+    printStats(fmt::format("RPE translation ({:g} s)", o.delta).c_str(), "m", rpe.translation);
+    printStats(fmt::format("RPE rotation    ({:g} s)", o.delta).c_str(), "deg", rpe.rotation_deg);
+    if (tracked_ratio >= 0) {
+      std::printf("tracked frames: %zu / %d = %.2f %%\n", est.size(), input_frames, 100.0 * tracked_ratio);
+    }
+    if (!o.plot.empty()) std::printf("plot: %s\n", o.plot.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+Action addEvalCommand(CLI::App& app) {
+  auto opts = std::make_shared<EvalOptions>();
+  auto* cmd = app.add_subcommand("eval", "Score a TUM trajectory against ground truth (ATE, RPE)");
+  cmd->add_option("ground_truth", opts->gt, "Ground-truth trajectory (TUM format)")->required();
+  cmd->add_option("estimate", opts->est, "Estimated trajectory (TUM format)")->required();
+  cmd->add_flag("--json", opts->json, "Print the results as JSON");
+  cmd->add_option("--plot", opts->plot, "Write an SVG top view of both trajectories, error coloured");
+  cmd->add_option("--frames", opts->frames,
+                  "Input frame list (rgb.txt or a dataset folder) to report the tracked-frame ratio");
+  cmd->add_option("--delta", opts->delta, "RPE time delta in seconds")->default_val(1.0)->check(CLI::PositiveNumber);
+  return [opts] { return runEval(*opts); };
+}
+
+}  // namespace tkgslam::app

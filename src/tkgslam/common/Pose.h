@@ -1,0 +1,33 @@
+#pragma once
+// Rigid-body poses. Naming convention: T_ab maps points expressed in frame b into frame a,
+// so T_cw maps world to camera and T_wc = T_cw^-1 is the camera pose in the world.
+// Translations are in metres.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace tkgslam {
+
+using Pose = Eigen::Isometry3d;
+using Vec2 = Eigen::Vector2d;
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+
+/// A timestamped camera pose as stored in TUM trajectory files (camera-to-world, T_wc).
+struct StampedPose {
+  double timestamp = 0.0;  ///< seconds
+  Pose T_wc = Pose::Identity();
+};
+
+/// Build a pose from a translation and a (not necessarily normalised) quaternion (x, y, z, w).
+Pose poseFromTranslationQuaternion(const Vec3& t, double qx, double qy, double qz, double qw);
+
+/// SO(3) exponential map (rotation vector in radians -> rotation matrix).
+Mat3 expSO3(const Vec3& omega);
+
+/// SE(3) increment: left-multiplies a pose by exp of a 6-vector [rotation (rad); translation (m)].
+Pose applyIncrement(const Pose& T, const Eigen::Matrix<double, 6, 1>& delta);
+
+/// Rotation angle of a rotation matrix in radians, in [0, pi].
+double rotationAngle(const Mat3& R);
+
+}  // namespace tkgslam

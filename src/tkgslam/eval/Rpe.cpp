@@ -1,0 +1,79 @@
+#include "tkgslam/eval/Rpe.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "tkgslam/common/Error.h"
+#include "tkgslam/eval/Association.h"
+
+namespace tkgslam::eval {
+
+namespace {
+struct Track {
+  std::vector<double> stamps;
+  std::vector<Pose> poses;
+};
+
+// The RPE script drops poses whose quaternion is all zero.
+Track toTrack(const std::vector<io::TrajectoryEntry>& traj) {
+  Track t;
+  for (const auto& e : traj) {
+    if (e.hasZeroQuaternion()) continue;
+    t.stamps.push_back(e.timestamp);
+    t.poses.push_back(e.pose());
+  }
+  return t;
+}
+}  // namespace
+
+RpeResult computeRpe(const std::vector<io::TrajectoryEntry>& ground_truth,
+                     const std::vector<io::TrajectoryEntry>& estimate, double delta_seconds) {
+  const Track gt = toTrack(ground_truth), est = toTrack(estimate);
+  if (gt.stamps.size() < 2 || est.stamps.size() < 2) {
+    throw InputError("RPE needs at least 2 valid poses in both the ground truth and the estimate");
+  }
+  // Overlap check as in the script: distinct estimate stamps reachable through the ground truth.
+  std::vector<int> overlap;
+  for (double t : est.stamps) {
+    const double t_gt = gt.stamps[findClosestIndex(gt.stamps, t)];
+    const int k = findClosestIndex(est.stamps, t_gt);
+    if (std::find(overlap.begin(), overlap.end(), k) == overlap.end()) overlap.push_back(k);
+    if (overlap.size() >= 2) break;
+  }
+  if (overlap.size() < 2) {
+    throw InputError("the estimate and ground truth overlap in fewer than 2 timestamps");
+  }
+
+  std::vector<double> intervals;
+  for (size_t k = 1; k < gt.stamps.size(); ++k) intervals.push_back(gt.stamps[k] - gt.stamps[k - 1]);
+  std::vector<double> sorted = intervals;
+  std::sort(sorted.begin(), sorted.end());
+  const size_t m = sorted.size() / 2;
+  const double median_interval = sorted.size() % 2 ? sorted[m] : 0.5 * (sorted[m - 1] + sorted[m]);
+  const double max_gt_difference = 2.0 * median_interval;
+
+  RpeResult r;
+  const int n = static_cast<int>(est.stamps.size());
+  for (int i = 0; i < n; ++i) {
+    const int j = findClosestIndex(est.stamps, est.stamps[i] + delta_seconds);
+    if (j == n - 1) continue;
+    const int gi = findClosestIndex(gt.stamps, est.stamps[i]);
+    const int gj = findClosestIndex(gt.stamps, est.stamps[j]);
+    if (std::abs(gt.stamps[gi] - est.stamps[i]) > max_gt_difference ||
+        std::abs(gt.stamps[gj] - est.stamps[j]) > max_gt_difference) {
+      continue;
+    }
+    const Pose rel_est = est.poses[j].inverse() * est.poses[i];
+    const Pose rel_gt = gt.poses[gj].inverse() * gt.poses[gi];
+    const Pose E = rel_est.inverse() * rel_gt;
+    r.timestamps.push_back(est.stamps[i]);
+    r.translation_errors.push_back(E.translation().norm());
+    r.rotation_errors_deg.push_back(rotationAngle(E.linear()) * 180.0 / M_PI);
+  }
+  if (r.timestamps.empty()) throw InputError("RPE: no pose pair 1 s apart matches the ground truth");
+  r.translation = ErrorStatistics::compute(r.translation_errors);
+  r.rotation_deg = ErrorStatistics::compute(r.rotation_errors_deg);
+  return r;
+}
+
+}  // namespace tkgslam::eval

@@ -1,0 +1,16 @@
+#pragma once
+// SVG plot of an ATE result: top view (x-y plane of the ground-truth frame) of the ground truth
+// and the aligned estimate, the estimate coloured by its position error.
+#include <string>
+
+#include "tkgslam/eval/Ate.h"
+
+namespace tkgslam::eval {
+
+/// Returns a standalone SVG document.
+std::string renderTrajectorySvg(const AteResult& ate, const std::string& title);
+
+/// Writes the SVG to `path`; throws InputError if it cannot be written.
+void writeTrajectorySvg(const std::string& path, const AteResult& ate, const std::string& title);
+
+}  // namespace tkgslam::eval

@@ -1,0 +1,251 @@
+#include "tkgslam/feature/OrbExtractor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <list>
+
+#include <fmt/format.h>
+#include <opencv2/imgproc.hpp>
+
+#include "tkgslam/common/Error.h"
+
+namespace tkgslam::feature {
+
+namespace {
+constexpr int kPatchSize = 31;
+constexpr int kHalfPatch = 15;
+constexpr int kEdgeThreshold = 19;                  // descriptor patch border
+constexpr int kFastBorder = kEdgeThreshold - 3;     // FAST needs 3 px around the centre
+constexpr int kCellSize = 30;
+
+struct QuadNode {
+  std::vector<cv::KeyPoint> kps;
+  float x0, x1, y0, y1;
+  bool leaf() const { return kps.size() <= 1; }
+};
+
+void splitNode(const QuadNode& n, QuadNode out[4]) {
+  const float xm = 0.5f * (n.x0 + n.x1), ym = 0.5f * (n.y0 + n.y1);
+  out[0] = {{}, n.x0, xm, n.y0, ym};
+  out[1] = {{}, xm, n.x1, n.y0, ym};
+  out[2] = {{}, n.x0, xm, ym, n.y1};
+  out[3] = {{}, xm, n.x1, ym, n.y1};
+  for (const auto& kp : n.kps) {
+    const int idx = (kp.pt.x < xm ? 0 : 1) + (kp.pt.y < ym ? 0 : 2);
+    out[idx].kps.push_back(kp);
+  }
+}
+}  // namespace
+
+std::vector<cv::KeyPoint> distributeQuadtree(const std::vector<cv::KeyPoint>& keypoints, int min_x,
+                                             int max_x, int min_y, int max_y, int target) {
+  if (keypoints.empty() || target <= 0) return {};
+  // Initial nodes: roughly square columns across the image.
+  const float w = float(max_x - min_x), h = float(max_y - min_y);
+  const int n_init = std::max(1, int(std::lround(w / std::max(h, 1.0f))));
+  const float dx = w / n_init;
+  std::list<QuadNode> nodes;
+  for (int i = 0; i < n_init; ++i) {
+    nodes.push_back({{}, min_x + dx * i, min_x + dx * (i + 1), float(min_y), float(max_y)});
+  }
+  for (const auto& kp : keypoints) {
+    const int i = std::clamp(int((kp.pt.x - min_x) / dx), 0, n_init - 1);
+    std::next(nodes.begin(), i)->kps.push_back(kp);
+  }
+  nodes.remove_if([](const QuadNode& n) { return n.kps.empty(); });
+
+  bool finished = false;
+  while (!finished) {
+    const size_t before = nodes.size();
+    std::vector<std::list<QuadNode>::iterator> expandable;
+    for (auto it = nodes.begin(); it != nodes.end();) {
+      if (it->leaf() || (it->x1 - it->x0) < 1.0f) {
+        ++it;
+        continue;
+      }
+      QuadNode children[4];
+      splitNode(*it, children);
+      for (auto& c : children) {
+        if (c.kps.empty()) continue;
+        nodes.push_front(std::move(c));
+        if (!nodes.front().leaf()) expandable.push_back(nodes.begin());
+      }
+      it = nodes.erase(it);
+    }
+    if (int(nodes.size()) >= target || nodes.size() == before) {
+      finished = true;
+    } else if (int(nodes.size() + expandable.size() * 3) > target) {
+      // Close to the target: split the most populated nodes first, one at a time.
+      while (!finished) {
+        const size_t prev = nodes.size();
+        auto candidates = expandable;
+        expandable.clear();
+        std::stable_sort(candidates.begin(), candidates.end(), [](auto a, auto b) {
+          if (a->kps.size() != b->kps.size()) return a->kps.size() > b->kps.size();
+          if (a->x0 != b->x0) return a->x0 < b->x0;
+          return a->y0 < b->y0;
+        });
+        for (auto it : candidates) {
+          QuadNode children[4];
+          splitNode(*it, children);
+          for (auto& c : children) {
+            if (c.kps.empty()) continue;
+            nodes.push_front(std::move(c));
+            if (!nodes.front().leaf() && (nodes.front().x1 - nodes.front().x0) >= 1.0f) {
+              expandable.push_back(nodes.begin());
+            }
+          }
+          nodes.erase(it);
+          if (int(nodes.size()) >= target) break;
+        }
+        if (int(nodes.size()) >= target || nodes.size() == prev || expandable.empty()) finished = true;
+      }
+    }
+  }
+  std::vector<cv::KeyPoint> out;
+  out.reserve(nodes.size());
+  for (const auto& n : nodes) {
+    const auto best = std::max_element(n.kps.begin(), n.kps.end(), [](const auto& a, const auto& b) {
+      return a.response < b.response;
+    });
+    out.push_back(*best);
+  }
+  // Deterministic order independent of the list's insertion order.
+  std::sort(out.begin(), out.end(), [](const cv::KeyPoint& a, const cv::KeyPoint& b) {
+    return a.pt.y != b.pt.y ? a.pt.y < b.pt.y : a.pt.x < b.pt.x;
+  });
+  return out;
+}
+
+OrbExtractor::OrbExtractor(const OrbParams& params) : params_(params) {
+  if (params_.features < 10) throw InputError("orb.features must be >= 10");
+  if (!(params_.scale_factor > 1.0 && params_.scale_factor < 4.0)) {
+    throw InputError("orb.scale_factor must be in (1, 4)");
+  }
+  if (params_.levels < 1 || params_.levels > 16) throw InputError("orb.levels must be in [1, 16]");
+  if (params_.fast_threshold < 1 || params_.fast_min_threshold < 1 ||
+      params_.fast_min_threshold > params_.fast_threshold) {
+    throw InputError("orb: need 1 <= fast_min_threshold <= fast_threshold");
+  }
+  const int L = params_.levels;
+  scales_.resize(L);
+  inv_scales_.resize(L);
+  sigma2_.resize(L);
+  inv_sigma2_.resize(L);
+  for (int l = 0; l < L; ++l) {
+    scales_[l] = std::pow(params_.scale_factor, l);
+    inv_scales_[l] = 1.0 / scales_[l];
+    sigma2_[l] = scales_[l] * scales_[l];
+    inv_sigma2_[l] = 1.0 / sigma2_[l];
+  }
+  // Geometric share of features per level (more on the finer levels).
+  const double f = 1.0 / params_.scale_factor;
+  double per_level = params_.features * (1 - f) / (1 - std::pow(f, L));
+  int total = 0;
+  features_per_level_.resize(L);
+  for (int l = 0; l < L - 1; ++l) {
+    features_per_level_[l] = int(std::lround(per_level));
+    total += features_per_level_[l];
+    per_level *= f;
+  }
+  features_per_level_[L - 1] = std::max(params_.features - total, 0);
+
+  // Circular patch for the intensity centroid.
+  umax_.resize(kHalfPatch + 1);
+  const int vmax = int(std::floor(kHalfPatch * std::sqrt(2.0) / 2 + 1));
+  const int vmin = int(std::ceil(kHalfPatch * std::sqrt(2.0) / 2));
+  const double hp2 = kHalfPatch * kHalfPatch;
+  for (int v = 0; v <= vmax; ++v) umax_[v] = int(std::lround(std::sqrt(hp2 - v * v)));
+  for (int v = kHalfPatch, v0 = 0; v >= vmin; --v) {
+    while (umax_[v0] == umax_[v0 + 1]) ++v0;
+    umax_[v] = v0;
+    ++v0;
+  }
+  // OpenCV's ORB only computes the descriptors of our keypoints (its own pyramid, blurred).
+  descriptor_ = cv::ORB::create(params_.features, float(params_.scale_factor), params_.levels,
+                                kFastBorder, 0, 2, cv::ORB::FAST_SCORE, kPatchSize, params_.fast_threshold);
+}
+
+std::vector<cv::KeyPoint> OrbExtractor::detectLevel(const cv::Mat& img, int level) const {
+  const int min_x = kFastBorder, min_y = kFastBorder;
+  const int max_x = img.cols - kFastBorder, max_y = img.rows - kFastBorder;
+  if (max_x - min_x < kCellSize / 2 || max_y - min_y < kCellSize / 2) return {};
+  // One FAST pass at the low threshold; a corner's response is the highest threshold at which
+  // it is still a corner, so "response >= high threshold" selects the high-threshold corners.
+  std::vector<cv::KeyPoint> all;
+  cv::FAST(img(cv::Rect(min_x - 3, min_y - 3, max_x - min_x + 6, max_y - min_y + 6)), all,
+           params_.fast_min_threshold, true);
+  const int cols = std::max(1, (max_x - min_x) / kCellSize);
+  const int rows = std::max(1, (max_y - min_y) / kCellSize);
+  const float cell_w = float(max_x - min_x) / cols, cell_h = float(max_y - min_y) / rows;
+  std::vector<std::vector<int>> cells(cols * rows);
+  std::vector<char> cell_has_strong(cols * rows, 0);
+  for (size_t k = 0; k < all.size(); ++k) {
+    auto& kp = all[k];
+    kp.pt.x += min_x - 3;
+    kp.pt.y += min_y - 3;
+    if (kp.pt.x < min_x || kp.pt.y < min_y || kp.pt.x >= max_x || kp.pt.y >= max_y) continue;
+    const int cx = std::min(int((kp.pt.x - min_x) / cell_w), cols - 1);
+    const int cy = std::min(int((kp.pt.y - min_y) / cell_h), rows - 1);
+    cells[cy * cols + cx].push_back(int(k));
+    if (kp.response >= params_.fast_threshold) cell_has_strong[cy * cols + cx] = 1;
+  }
+  std::vector<cv::KeyPoint> candidates;
+  for (size_t c = 0; c < cells.size(); ++c) {
+    for (int k : cells[c]) {
+      if (!cell_has_strong[c] || all[k].response >= params_.fast_threshold) candidates.push_back(all[k]);
+    }
+  }
+  auto kps = distributeQuadtree(candidates, min_x, max_x, min_y, max_y, features_per_level_[level]);
+  // Orientation by the intensity centroid of the circular patch.
+  const int step = int(img.step1());
+  for (auto& kp : kps) {
+    const uchar* center = img.ptr<uchar>(cvRound(kp.pt.y)) + cvRound(kp.pt.x);
+    int m01 = 0, m10 = 0;
+    for (int u = -kHalfPatch; u <= kHalfPatch; ++u) m10 += u * center[u];
+    for (int v = 1; v <= kHalfPatch; ++v) {
+      int v_sum = 0;
+      const int d = umax_[v];
+      for (int u = -d; u <= d; ++u) {
+        const int plus = center[u + v * step], minus = center[u - v * step];
+        v_sum += plus - minus;
+        m10 += u * (plus + minus);
+      }
+      m01 += v * v_sum;
+    }
+    float angle = cv::fastAtan2(float(m01), float(m10));
+    kp.angle = angle;
+    kp.octave = level;
+    kp.size = float(kPatchSize * scales_[level]);
+    kp.pt *= float(scales_[level]);  // to level-0 coordinates
+  }
+  return kps;
+}
+
+OrbFeatures OrbExtractor::extract(const cv::Mat& gray) const {
+  if (gray.empty() || gray.type() != CV_8UC1) throw InputError("ORB extraction needs an 8-bit grey image");
+  OrbFeatures out;
+  cv::Mat level_img = gray;
+  for (int l = 0; l < params_.levels; ++l) {
+    if (l > 0) {
+      const cv::Size sz(cvRound(gray.cols * inv_scales_[l]), cvRound(gray.rows * inv_scales_[l]));
+      cv::Mat next;
+      cv::resize(level_img, next, sz, 0, 0, cv::INTER_LINEAR_EXACT);
+      level_img = next;
+    }
+    auto kps = detectLevel(level_img, l);
+    out.keypoints.insert(out.keypoints.end(), kps.begin(), kps.end());
+  }
+  if (out.keypoints.empty()) {
+    out.descriptors = cv::Mat(0, 32, CV_8U);
+    return out;
+  }
+  const size_t n = out.keypoints.size();
+  descriptor_->compute(gray, out.keypoints, out.descriptors);
+  if (out.keypoints.size() != n) {
+    throw std::logic_error("ORB descriptor computation dropped keypoints");  // border mismatch
+  }
+  return out;
+}
+
+}  // namespace tkgslam::feature

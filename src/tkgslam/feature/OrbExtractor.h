@@ -1,0 +1,58 @@
+#pragma once
+// ORB features as ORB-SLAM2 extracts them: an image pyramid, FAST corners kept per grid cell
+// (with a lower threshold where a cell has no corner), spread evenly with a quadtree, oriented by
+// the intensity centroid, and described by OpenCV's learned rBRIEF (256 bits).
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <opencv2/features2d.hpp>
+
+namespace tkgslam::feature {
+
+struct OrbParams {
+  int features = 1000;       ///< total keypoints over all levels
+  double scale_factor = 1.2; ///< pyramid scale between levels
+  int levels = 8;
+  int fast_threshold = 20;     ///< FAST threshold tried first in each cell
+  int fast_min_threshold = 7;  ///< used in cells where the first finds nothing
+};
+
+/// Keypoints in raw (distorted) level-0 pixel coordinates; `octave` is the pyramid level,
+/// `angle` in degrees, `size` the patch diameter at level 0. Descriptors: one row of 32 bytes each.
+struct OrbFeatures {
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat descriptors;
+};
+
+class OrbExtractor {
+ public:
+  /// Throws InputError for invalid parameters.
+  explicit OrbExtractor(const OrbParams& params);
+
+  /// Extracts features from an 8-bit grey image. Deterministic; thread-safe.
+  OrbFeatures extract(const cv::Mat& gray) const;
+
+  const OrbParams& params() const { return params_; }
+  int levels() const { return params_.levels; }
+  /// scale_factor^level, its inverse, and their squares (sigma^2 used to weight residuals).
+  const std::vector<double>& scales() const { return scales_; }
+  const std::vector<double>& invScales() const { return inv_scales_; }
+  const std::vector<double>& sigma2() const { return sigma2_; }
+  const std::vector<double>& invSigma2() const { return inv_sigma2_; }
+
+ private:
+  std::vector<cv::KeyPoint> detectLevel(const cv::Mat& level_image, int level) const;
+
+  OrbParams params_;
+  std::vector<double> scales_, inv_scales_, sigma2_, inv_sigma2_;
+  std::vector<int> features_per_level_;
+  std::vector<int> umax_;  // half-width of each row of the circular orientation patch
+  cv::Ptr<cv::ORB> descriptor_;
+};
+
+/// Spreads keypoints evenly over [min, max) with a quadtree (ORB-SLAM2's scheme): cells are split
+/// until there are about `target` of them, then the strongest keypoint of each cell is kept.
+std::vector<cv::KeyPoint> distributeQuadtree(const std::vector<cv::KeyPoint>& keypoints, int min_x,
+                                             int max_x, int min_y, int max_y, int target);
+
+}  // namespace tkgslam::feature

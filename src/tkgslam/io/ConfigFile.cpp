@@ -1,0 +1,168 @@
+#include "tkgslam/io/ConfigFile.h"
+
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include "tkgslam/common/Error.h"
+
+namespace tkgslam::io {
+
+namespace {
+
+// Reads one mapping section, remembering which keys were used so leftovers can be reported.
+class Section {
+ public:
+  Section(const YAML::Node& root, std::string name, std::string source, bool required)
+      : name_(std::move(name)), source_(std::move(source)) {
+    node_ = root[name_];
+    if (!node_ || node_.IsNull()) {
+      if (required) throw InputError(fmt::format("{}: missing section '{}'", source_, name_));
+      return;
+    }
+    if (!node_.IsMap()) throw InputError(fmt::format("{}: section '{}' must be a mapping", source_, name_));
+  }
+
+  template <typename T>
+  void get(const std::string& key, T& value, bool required = false) {
+    used_.insert(key);
+    if (!node_ || !node_[key]) {
+      if (required) throw InputError(fmt::format("{}: missing key '{}.{}'", source_, name_, key));
+      return;
+    }
+    try {
+      value = node_[key].template as<T>();
+    } catch (const YAML::Exception&) {
+      throw InputError(fmt::format("{}: key '{}.{}' has an invalid value", source_, name_, key));
+    }
+  }
+
+  void checkNoUnknownKeys() const {
+    if (!node_) return;
+    for (const auto& kv : node_) {
+      const auto key = kv.first.as<std::string>();
+      if (!used_.count(key)) throw InputError(fmt::format("{}: unknown key '{}.{}'", source_, name_, key));
+    }
+  }
+
+ private:
+  YAML::Node node_;
+  std::string name_, source_;
+  std::set<std::string> used_;
+};
+
+void require(bool ok, const std::string& source, const std::string& what) {
+  if (!ok) throw InputError(fmt::format("{}: {}", source, what));
+}
+
+}  // namespace
+
+SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(fmt::format("{}: not valid YAML (line {}): {}", source, e.mark.line + 1, e.msg));
+  }
+  if (!root.IsMap()) throw InputError(fmt::format("{}: expected a YAML mapping at top level", source));
+  static const std::set<std::string> kSections = {"camera", "depth", "orb", "tracking", "mapping", "system"};
+  for (const auto& kv : root) {
+    const auto key = kv.first.as<std::string>();
+    if (!kSections.count(key)) throw InputError(fmt::format("{}: unknown section '{}'", source, key));
+  }
+
+  SlamConfig c;
+  c.source = source;
+  {
+    Section s(root, "camera", source, true);
+    s.get("width", c.camera.width, true);
+    s.get("height", c.camera.height, true);
+    s.get("fx", c.camera.fx, true);
+    s.get("fy", c.camera.fy, true);
+    s.get("cx", c.camera.cx, true);
+    s.get("cy", c.camera.cy, true);
+    std::vector<double> dist;
+    s.get("distortion", dist);
+    require(dist.empty() || dist.size() == 4 || dist.size() == 5, source,
+            "camera.distortion must list 4 or 5 coefficients: k1 k2 p1 p2 [k3]");
+    for (size_t i = 0; i < dist.size(); ++i) c.camera.distortion[i] = dist[i];
+    s.get("fps", c.camera.fps);
+    s.checkNoUnknownKeys();
+    try {
+      camera::PinholeCamera check(c.camera);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{}: {}", source, e.what()));
+    }
+  }
+  {
+    Section s(root, "depth", source, false);
+    s.get("factor", c.depth.factor);
+    s.get("baseline_fx", c.depth.baseline_fx);
+    s.get("close_threshold", c.depth.close_threshold);
+    s.get("max_depth", c.depth.max_depth);
+    s.checkNoUnknownKeys();
+    require(c.depth.factor > 0, source, "depth.factor must be > 0");
+    require(c.depth.baseline_fx > 0, source, "depth.baseline_fx must be > 0");
+    require(c.depth.close_threshold > 0, source, "depth.close_threshold must be > 0");
+    require(c.depth.max_depth > 0, source, "depth.max_depth must be > 0");
+  }
+  {
+    Section s(root, "orb", source, false);
+    s.get("features", c.orb.features);
+    s.get("scale_factor", c.orb.scale_factor);
+    s.get("levels", c.orb.levels);
+    s.get("fast_threshold", c.orb.fast_threshold);
+    s.get("fast_min_threshold", c.orb.fast_min_threshold);
+    s.checkNoUnknownKeys();
+    try {
+      feature::OrbExtractor check(c.orb);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{}: {}", source, e.what()));
+    }
+  }
+  {
+    Section s(root, "tracking", source, false);
+    s.get("min_init_features", c.tracking.min_init_features);
+    s.get("min_tracked_inliers", c.tracking.min_tracked_inliers);
+    s.get("max_frames_between_keyframes", c.tracking.max_frames_between_keyframes);
+    s.get("relocalization_attempts", c.tracking.relocalization_attempts);
+    s.checkNoUnknownKeys();
+    require(c.tracking.min_init_features >= 10, source, "tracking.min_init_features must be >= 10");
+    require(c.tracking.min_tracked_inliers >= 6, source, "tracking.min_tracked_inliers must be >= 6");
+    require(c.tracking.max_frames_between_keyframes >= 0, source,
+            "tracking.max_frames_between_keyframes must be >= 0");
+    require(c.tracking.relocalization_attempts >= 0, source, "tracking.relocalization_attempts must be >= 0");
+  }
+  {
+    Section s(root, "mapping", source, false);
+    s.get("local_ba_iterations", c.mapping.local_ba_iterations);
+    s.get("covisible_keyframes", c.mapping.covisible_keyframes);
+    s.get("keyframe_redundancy", c.mapping.keyframe_redundancy);
+    s.get("cull_keyframes", c.mapping.cull_keyframes);
+    s.checkNoUnknownKeys();
+    require(c.mapping.local_ba_iterations >= 0, source, "mapping.local_ba_iterations must be >= 0");
+    require(c.mapping.covisible_keyframes >= 1, source, "mapping.covisible_keyframes must be >= 1");
+    require(c.mapping.keyframe_redundancy > 0 && c.mapping.keyframe_redundancy <= 1, source,
+            "mapping.keyframe_redundancy must be in (0, 1]");
+  }
+  {
+    Section s(root, "system", source, false);
+    s.get("deterministic", c.deterministic);
+    s.get("seed", c.seed);
+    s.checkNoUnknownKeys();
+  }
+  return c;
+}
+
+SlamConfig loadConfig(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(fmt::format("cannot open config file '{}'", path));
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parseConfig(ss.str(), path);
+}
+
+}  // namespace tkgslam::io

@@ -1,0 +1,22 @@
+#pragma once
+// YAML configuration. Every section and key is optional except camera intrinsics and size;
+// unknown keys are errors (a typo must not silently fall back to a default).
+//
+//   camera:  { width, height, fx, fy, cx, cy, distortion: [k1, k2, p1, p2, k3], fps }
+//   depth:   { factor (raw units per metre), baseline_fx (virtual stereo baseline * fx, m*px),
+//              close_threshold (m), max_depth (m) }
+//   orb:     { features, scale_factor, levels, fast_threshold, fast_min_threshold }
+//   system:  { deterministic, seed }
+#include <string>
+
+#include "tkgslam/system/SlamConfig.h"
+
+namespace tkgslam::io {
+
+/// Loads and validates a config file. Throws InputError naming the file and key on any problem.
+SlamConfig loadConfig(const std::string& path);
+
+/// Parses a config from YAML text (`source` names it in error messages).
+SlamConfig parseConfig(const std::string& yaml_text, const std::string& source);
+
+}  // namespace tkgslam::io

@@ -1,0 +1,156 @@
+#include "tkgslam/io/TumDataset.h"
+
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "tkgslam/common/Error.h"
+#include "tkgslam/eval/Association.h"
+#include "tkgslam/io/TextParsing.h"
+
+namespace fs = std::filesystem;
+
+namespace tkgslam::io {
+
+std::vector<ListEntry> parseTumImageList(std::istream& in, const std::string& source) {
+  std::vector<ListEntry> out;
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (isCommentOrBlank(line)) continue;
+    const auto fields = splitFields(line);
+    if (fields.size() < 2) {
+      throw InputError(fmt::format("{}:{}: expected 'timestamp filename', got '{}'", source, line_no, line));
+    }
+    ListEntry e;
+    if (!parseDouble(fields[0], e.timestamp) || e.timestamp < 0) {
+      throw InputError(fmt::format("{}:{}: malformed timestamp '{}'", source, line_no, fields[0]));
+    }
+    if (!out.empty() && e.timestamp <= out.back().timestamp) {
+      throw InputError(fmt::format("{}:{}: timestamp {} is not after the previous one ({}); "
+                                   "timestamps must increase",
+                                   source, line_no, fields[0], out.back().timestamp));
+    }
+    e.file = fields[1];
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
+namespace {
+
+std::vector<ListEntry> readList(const fs::path& path) {
+  if (!fs::is_regular_file(path)) {
+    throw InputError(fmt::format("missing image list '{}' (a TUM sequence has rgb.txt and depth.txt)",
+                                 path.string()));
+  }
+  std::ifstream in(path);
+  if (!in) throw InputError(fmt::format("cannot read image list '{}'", path.string()));
+  auto list = parseTumImageList(in, path.string());
+  if (list.empty()) throw InputError(fmt::format("image list '{}' has no entries", path.string()));
+  return list;
+}
+
+std::vector<double> stamps(const std::vector<ListEntry>& list) {
+  std::vector<double> s;
+  s.reserve(list.size());
+  for (const auto& e : list) s.push_back(e.timestamp);
+  return s;
+}
+
+}  // namespace
+
+TumDataset::TumDataset(const std::string& directory, TumDatasetOptions options)
+    : directory_(directory), options_(options) {
+  if (options_.depth_factor <= 0) throw InputError("depth factor must be > 0");
+  if (options_.loops < 1) throw InputError("loops must be >= 1");
+  const fs::path dir(directory);
+  if (!fs::is_directory(dir)) throw InputError(fmt::format("dataset folder '{}' does not exist", directory));
+  const auto rgb = readList(dir / "rgb.txt");
+  const auto depth = readList(dir / "depth.txt");
+  const auto pairs = eval::associateTimestamps(stamps(rgb), stamps(depth), options_.max_time_difference);
+  if (pairs.empty()) {
+    throw InputError(fmt::format("no RGB image in '{}' has a depth image within {} s; "
+                                 "check rgb.txt and depth.txt",
+                                 directory, options_.max_time_difference));
+  }
+  for (const auto& [i, j] : pairs) {
+    RgbdEntry e;
+    e.rgb_timestamp = rgb[i].timestamp;
+    e.depth_timestamp = depth[j].timestamp;
+    e.rgb_path = (dir / rgb[i].file).string();
+    e.depth_path = (dir / depth[j].file).string();
+    for (const auto* p : {&e.rgb_path, &e.depth_path}) {
+      if (!fs::is_regular_file(*p)) {
+        throw InputError(fmt::format("listed image '{}' does not exist ({})", *p,
+                                     p == &e.rgb_path ? "rgb.txt" : "depth.txt"));
+      }
+    }
+    entries_.push_back(std::move(e));
+  }
+  const double span = entries_.back().rgb_timestamp - entries_.front().rgb_timestamp;
+  loop_period_ = span + (entries_.size() > 1 ? span / double(entries_.size() - 1) : 1.0);
+}
+
+double TumDataset::timestamp(int i) const {
+  const int n = framesPerLoop();
+  return entries_[i % n].rgb_timestamp + loop_period_ * (i / n);
+}
+
+RgbdImages TumDataset::load(int i) const {
+  if (i < 0 || i >= size()) throw InputError(fmt::format("frame index {} out of range", i));
+  const RgbdEntry& e = entry(i);
+  RgbdImages out;
+  out.timestamp = timestamp(i);
+  cv::Mat colour = cv::imread(e.rgb_path, cv::IMREAD_UNCHANGED);
+  if (colour.empty()) throw InputError(fmt::format("cannot read RGB image '{}'", e.rgb_path));
+  if (colour.depth() != CV_8U) {
+    throw InputError(fmt::format("RGB image '{}' is not 8-bit", e.rgb_path));
+  }
+  if (colour.channels() == 1) {
+    out.gray = colour;
+    cv::cvtColor(colour, out.bgr, cv::COLOR_GRAY2BGR);
+  } else if (colour.channels() == 3 || colour.channels() == 4) {
+    if (colour.channels() == 4) cv::cvtColor(colour, colour, cv::COLOR_BGRA2BGR);
+    out.bgr = colour;
+    cv::cvtColor(colour, out.gray, cv::COLOR_BGR2GRAY);
+  } else {
+    throw InputError(fmt::format("RGB image '{}' has {} channels", e.rgb_path, colour.channels()));
+  }
+  cv::Mat raw = cv::imread(e.depth_path, cv::IMREAD_UNCHANGED);
+  if (raw.empty()) throw InputError(fmt::format("cannot read depth image '{}'", e.depth_path));
+  if (raw.channels() != 1 || (raw.type() != CV_16UC1 && raw.type() != CV_32FC1)) {
+    throw InputError(fmt::format("depth image '{}' must be single-channel 16-bit (or 32-bit float "
+                                 "metres); got {} channel(s) of depth type {}",
+                                 e.depth_path, raw.channels(), raw.depth()));
+  }
+  if (raw.size() != colour.size()) {
+    throw InputError(fmt::format("depth image '{}' is {}x{} but the RGB image is {}x{}", e.depth_path,
+                                 raw.cols, raw.rows, colour.cols, colour.rows));
+  }
+  if (options_.expected_width > 0 &&
+      (colour.cols != options_.expected_width || colour.rows != options_.expected_height)) {
+    throw InputError(fmt::format("image '{}' is {}x{} but the camera config says {}x{}", e.rgb_path,
+                                 colour.cols, colour.rows, options_.expected_width,
+                                 options_.expected_height));
+  }
+  if (raw.type() == CV_16UC1) {
+    raw.convertTo(out.depth_m, CV_32F, 1.0 / options_.depth_factor);
+  } else {
+    out.depth_m = raw;
+    cv::patchNaNs(out.depth_m, 0.0);
+  }
+  return out;
+}
+
+std::optional<std::string> TumDataset::groundTruthPath() const {
+  const fs::path p = fs::path(directory_) / "groundtruth.txt";
+  if (fs::is_regular_file(p)) return p.string();
+  return std::nullopt;
+}
+
+}  // namespace tkgslam::io
