@@ -18,30 +18,33 @@ class Section {
  public:
   Section(const YAML::Node& root, std::string name, std::string source, bool required)
       : name_(std::move(name)), source_(std::move(source)) {
-    node_ = root[name_];
-    if (!node_ || node_.IsNull()) {
+    const YAML::Node found = static_cast<const YAML::Node&>(root)[name_];
+    if (!found || found.IsNull()) {
       if (required) throw InputError(fmt::format("{}: missing section '{}'", source_, name_));
       return;
     }
+    node_.reset(found);
+    present_ = true;
     if (!node_.IsMap()) throw InputError(fmt::format("{}: section '{}' must be a mapping", source_, name_));
   }
 
   template <typename T>
   void get(const std::string& key, T& value, bool required = false) {
     used_.insert(key);
-    if (!node_ || !node_[key]) {
+    const YAML::Node& section = node_;
+    if (!present_ || !section[key]) {
       if (required) throw InputError(fmt::format("{}: missing key '{}.{}'", source_, name_, key));
       return;
     }
     try {
-      value = node_[key].template as<T>();
+      value = section[key].template as<T>();
     } catch (const YAML::Exception&) {
       throw InputError(fmt::format("{}: key '{}.{}' has an invalid value", source_, name_, key));
     }
   }
 
   void checkNoUnknownKeys() const {
-    if (!node_) return;
+    if (!present_) return;
     for (const auto& kv : node_) {
       const auto key = kv.first.as<std::string>();
       if (!used_.count(key)) throw InputError(fmt::format("{}: unknown key '{}.{}'", source_, name_, key));
@@ -50,6 +53,7 @@ class Section {
 
  private:
   YAML::Node node_;
+  bool present_ = false;
   std::string name_, source_;
   std::set<std::string> used_;
 };

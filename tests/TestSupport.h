@@ -1,0 +1,65 @@
+#pragma once
+// Helpers for tests: locating ../shared (skip when absent), temporary folders, running the CLI.
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace tkgslam::test {
+
+inline std::filesystem::path sourceDir() { return TKGSLAM_SOURCE_DIR; }
+
+/// ../shared relative to the repository root (empty path if missing).
+inline std::filesystem::path sharedDir() {
+  const auto p = sourceDir().parent_path() / "shared";
+  return std::filesystem::is_directory(p) ? p : std::filesystem::path();
+}
+
+#define TKGSLAM_REQUIRE_SHARED()                                                             \
+  do {                                                                                       \
+    if (::tkgslam::test::sharedDir().empty())                                                \
+      GTEST_SKIP() << "../shared (datasets/models) not found next to the repository; skipped"; \
+  } while (0)
+
+inline std::filesystem::path fr1xyz() { return sharedDir() / "datasets" / "rgbd_dataset_freiburg1_xyz"; }
+
+/// A fresh temporary directory, removed when the object dies.
+class TempDir {
+ public:
+  TempDir() {
+    std::random_device rd;
+    path_ = std::filesystem::temp_directory_path() / ("tkgslam_test_" + std::to_string(rd()) + std::to_string(rd()));
+    std::filesystem::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& s) const { return path_ / s; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+inline void writeText(const std::filesystem::path& p, const std::string& text) {
+  std::filesystem::create_directories(p.parent_path());
+  std::ofstream(p) << text;
+}
+
+/// Runs the CLI with arguments; returns its exit code and captures stdout+stderr into `output`.
+inline int runCli(const std::string& args, std::string* output = nullptr) {
+  TempDir tmp;
+  const auto log = tmp / "out.txt";
+  const std::string cmd = std::string(TKGSLAM_CLI) + " " + args + " > " + log.string() + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  if (output) {
+    std::ifstream in(log);
+    output->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace tkgslam::test

@@ -1,0 +1,56 @@
+#include <gtest/gtest.h>
+
+#include "TestSupport.h"
+#include "tkgslam/common/Error.h"
+#include "tkgslam/io/ConfigFile.h"
+
+namespace tkgslam {
+namespace {
+
+const char* kMinimal = "camera: {width: 640, height: 480, fx: 500, fy: 500, cx: 320, cy: 240}\n";
+
+std::string errorOf(const std::string& yaml) {
+  try {
+    io::parseConfig(yaml, "cfg.yaml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ConfigFile, BundledConfigsLoad) {
+  for (const char* name : {"tum_fr1.yaml", "tum_fr2.yaml", "tum_fr3.yaml"}) {
+    const auto c = io::loadConfig((test::sourceDir() / "configs" / name).string());
+    EXPECT_EQ(c.camera.width, 640) << name;
+    EXPECT_GT(c.camera.fx, 500) << name;
+    EXPECT_EQ(c.orb.features, 1000) << name;
+  }
+  const auto fr1 = io::loadConfig((test::sourceDir() / "configs" / "tum_fr1.yaml").string());
+  EXPECT_DOUBLE_EQ(fr1.camera.distortion[4], 1.163314);
+  EXPECT_DOUBLE_EQ(fr1.depth.factor, 5000);
+}
+
+TEST(ConfigFile, MinimalConfigGetsDefaults) {
+  const auto c = io::parseConfig(kMinimal, "x");
+  EXPECT_DOUBLE_EQ(c.depth.factor, 5000);
+  EXPECT_EQ(c.orb.levels, 8);
+}
+
+TEST(ConfigFile, InvalidValuesAreClearErrors) {
+  EXPECT_NE(errorOf("camera: {width: 640, height: 480, fx: 0, fy: 500, cx: 320, cy: 240}").find("fx and fy must be > 0"),
+            std::string::npos);
+  EXPECT_NE(errorOf("camera: {width: 640, height: 480, fy: 500, cx: 320, cy: 240}").find("missing key 'camera.fx'"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "orb: {featurs: 100}").find("unknown key 'orb.featurs'"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "depth: {factor: -1}").find("depth.factor"), std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "orb: {features: many}").find("invalid value"), std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "bogus: 1").find("unknown section 'bogus'"), std::string::npos);
+  EXPECT_NE(errorOf("camera: [1, 2").find("not valid YAML"), std::string::npos);
+  EXPECT_NE(errorOf("orb: {features: 100}").find("missing section 'camera'"), std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "camera2: {}").find("unknown section"), std::string::npos);
+  EXPECT_THROW(io::loadConfig("/nonexistent.yaml"), InputError);
+}
+
+}  // namespace
+}  // namespace tkgslam

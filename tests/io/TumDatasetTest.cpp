@@ -1,0 +1,170 @@
+#include <opencv2/imgcodecs.hpp>
+
+#include <gtest/gtest.h>
+
+#include "TestSupport.h"
+#include "tkgslam/common/Error.h"
+#include "tkgslam/io/TumDataset.h"
+
+namespace tkgslam {
+namespace {
+
+using test::TempDir;
+using test::writeText;
+
+// A tiny valid TUM-layout sequence: 3 frames, JPEG colour, 16-bit depth of 1 m.
+void makeDataset(const std::filesystem::path& dir, int w = 64, int h = 48) {
+  std::filesystem::create_directories(dir / "rgb");
+  std::filesystem::create_directories(dir / "depth");
+  std::string rgb = "# color images\n# timestamp filename\n", depth = "# depth\n";
+  for (int i = 0; i < 3; ++i) {
+    const std::string t = std::to_string(100 + i) + ".000000";
+    const std::string td = std::to_string(100 + i) + ".010000";
+    cv::imwrite((dir / "rgb" / (t + ".jpg")).string(), cv::Mat(h, w, CV_8UC3, cv::Scalar(10, 20, 30 + i)));
+    cv::imwrite((dir / "depth" / (td + ".png")).string(), cv::Mat(h, w, CV_16UC1, cv::Scalar(5000)));
+    rgb += t + " rgb/" + t + ".jpg\n";
+    depth += td + " depth/" + td + ".png\n";
+  }
+  writeText(dir / "rgb.txt", rgb);
+  writeText(dir / "depth.txt", depth);
+}
+
+std::string errorOf(const std::function<void()>& fn) {
+  try {
+    fn();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(TumDataset, ReadsAssociatesAndConvertsDepthToMetres) {
+  TempDir tmp;
+  makeDataset(tmp.path());
+  io::TumDataset ds(tmp.path().string());
+  ASSERT_EQ(ds.size(), 3);
+  EXPECT_DOUBLE_EQ(ds.timestamp(1), 101.0);
+  EXPECT_NEAR(ds.entry(1).depth_timestamp, 101.01, 1e-9);
+  const auto f = ds.load(2);
+  EXPECT_EQ(f.bgr.type(), CV_8UC3);
+  EXPECT_EQ(f.gray.type(), CV_8UC1);
+  ASSERT_EQ(f.depth_m.type(), CV_32FC1);
+  EXPECT_FLOAT_EQ(f.depth_m.at<float>(10, 10), 1.0f);
+  EXPECT_FALSE(ds.groundTruthPath().has_value());
+}
+
+TEST(TumDataset, LoopsRepeatTheSequenceWithIncreasingStamps) {
+  TempDir tmp;
+  makeDataset(tmp.path());
+  io::TumDatasetOptions o;
+  o.loops = 3;
+  io::TumDataset ds(tmp.path().string(), o);
+  ASSERT_EQ(ds.size(), 9);
+  for (int i = 1; i < 9; ++i) EXPECT_GT(ds.timestamp(i), ds.timestamp(i - 1));
+}
+
+TEST(TumDataset, MissingFolder) {
+  EXPECT_NE(errorOf([] { io::TumDataset("/nonexistent/tkgslam"); }).find("does not exist"), std::string::npos);
+}
+
+TEST(TumDataset, MissingList) {
+  TempDir tmp;
+  makeDataset(tmp.path());
+  std::filesystem::remove(tmp / "depth.txt");
+  const auto msg = errorOf([&] { io::TumDataset(tmp.path().string()); });
+  EXPECT_NE(msg.find("depth.txt"), std::string::npos) << msg;
+}
+
+TEST(TumDataset, ListedImageAbsent) {
+  TempDir tmp;
+  makeDataset(tmp.path());
+  std::filesystem::remove(tmp.path() / "rgb" / "101.000000.jpg");
+  const auto msg = errorOf([&] { io::TumDataset(tmp.path().string()); });
+  EXPECT_NE(msg.find("101.000000.jpg"), std::string::npos) << msg;
+}
+
+TEST(TumDataset, UnreadableImageNamesTheFile) {
+  TempDir tmp;
+  makeDataset(tmp.path());
+  writeText(tmp.path() / "rgb" / "101.000000.jpg", "this is not a jpeg");
+  io::TumDataset ds(tmp.path().string());
+  EXPECT_NO_THROW(ds.load(0));
+  const auto msg = errorOf([&] { ds.load(1); });
+  EXPECT_NE(msg.find("cannot read RGB image"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("101.000000.jpg"), std::string::npos) << msg;
+}
+
+TEST(TumDataset, WrongDepthType) {
+  TempDir tmp;
+  makeDataset(tmp.path());
+  cv::imwrite((tmp.path() / "depth" / "100.010000.png").string(), cv::Mat(48, 64, CV_8UC1, cv::Scalar(3)));
+  io::TumDataset ds(tmp.path().string());
+  const auto msg = errorOf([&] { ds.load(0); });
+  EXPECT_NE(msg.find("16-bit"), std::string::npos) << msg;
+}
+
+TEST(TumDataset, WrongImageSize) {
+  TempDir tmp;
+  makeDataset(tmp.path());
+  io::TumDatasetOptions o;
+  o.expected_width = 640;
+  o.expected_height = 480;
+  io::TumDataset ds(tmp.path().string(), o);
+  const auto msg = errorOf([&] { ds.load(0); });
+  EXPECT_NE(msg.find("camera config says 640x480"), std::string::npos) << msg;
+  // Depth and colour of different sizes.
+  cv::imwrite((tmp.path() / "depth" / "101.010000.png").string(), cv::Mat(10, 10, CV_16UC1, cv::Scalar(1)));
+  io::TumDataset ds2(tmp.path().string());
+  EXPECT_NE(errorOf([&] { ds2.load(1); }).find("is 10x10 but the RGB image is 64x48"), std::string::npos);
+}
+
+TEST(TumDataset, NonMonotonicTimestamps) {
+  TempDir tmp;
+  makeDataset(tmp.path());
+  writeText(tmp / "rgb.txt", "101.0 rgb/101.000000.jpg\n100.0 rgb/100.000000.jpg\n");
+  const auto msg = errorOf([&] { io::TumDataset(tmp.path().string()); });
+  EXPECT_NE(msg.find("rgb.txt:2"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("must increase"), std::string::npos) << msg;
+}
+
+TEST(TumDataset, MalformedTimestamp) {
+  TempDir tmp;
+  makeDataset(tmp.path());
+  writeText(tmp / "depth.txt", "# header\n100.01 depth/100.010000.png\n1O1.01 depth/101.010000.png\n");
+  const auto msg = errorOf([&] { io::TumDataset(tmp.path().string()); });
+  EXPECT_NE(msg.find("depth.txt:3: malformed timestamp '1O1.01'"), std::string::npos) << msg;
+}
+
+TEST(TumDataset, MissingFileName) {
+  TempDir tmp;
+  makeDataset(tmp.path());
+  writeText(tmp / "rgb.txt", "100.0\n");
+  EXPECT_NE(errorOf([&] { io::TumDataset(tmp.path().string()); }).find("rgb.txt:1"), std::string::npos);
+}
+
+TEST(TumDataset, EmptyAssociation) {
+  TempDir tmp;
+  makeDataset(tmp.path());
+  writeText(tmp / "depth.txt", "200.0 depth/100.010000.png\n");
+  const auto msg = errorOf([&] { io::TumDataset(tmp.path().string()); });
+  EXPECT_NE(msg.find("no RGB image"), std::string::npos) << msg;
+}
+
+TEST(TumDataset, RealFr1XyzSequence) {
+  TKGSLAM_REQUIRE_SHARED();
+  io::TumDataset ds(test::fr1xyz().string());
+  EXPECT_GE(ds.size(), 790);  // 798 RGB frames, nearly all with depth within 20 ms
+  EXPECT_LE(ds.size(), 798);
+  const auto f = ds.load(0);
+  EXPECT_EQ(f.bgr.cols, 640);
+  EXPECT_EQ(f.bgr.rows, 480);
+  // Depth is in metres: the desk scene is between 0.5 m and 4 m away.
+  double mn, mx;
+  cv::minMaxLoc(f.depth_m, &mn, &mx, nullptr, nullptr, f.depth_m > 0);
+  EXPECT_GT(mn, 0.3);
+  EXPECT_LT(mx, 6.0);
+  EXPECT_TRUE(ds.groundTruthPath().has_value());
+}
+
+}  // namespace
+}  // namespace tkgslam
