@@ -20,11 +20,17 @@ Mat3 expSO3(const Vec3& omega) {
   return Eigen::AngleAxisd(theta, omega / theta).toRotationMatrix();
 }
 
+Pose orthonormalized(const Pose& T) {
+  Pose out = T;
+  out.linear() = Eigen::Quaterniond(T.linear()).normalized().toRotationMatrix();
+  return out;
+}
+
 Pose applyIncrement(const Pose& T, const Eigen::Matrix<double, 6, 1>& delta) {
   Pose D = Pose::Identity();
   D.linear() = expSO3(delta.head<3>());
   D.translation() = delta.tail<3>();
-  return D * T;
+  return orthonormalized(D * T);
 }
 
 double rotationAngle(const Mat3& R) {

@@ -24,6 +24,10 @@ Pose poseFromTranslationQuaternion(const Vec3& t, double qx, double qy, double q
 /// SO(3) exponential map (rotation vector in radians -> rotation matrix).
 Mat3 expSO3(const Vec3& omega);
 
+/// Projects the rotation part back onto SO(3). Products of poses accumulate rounding error that
+/// the constant-velocity model would otherwise amplify frame after frame.
+Pose orthonormalized(const Pose& T);
+
 /// SE(3) increment: left-multiplies a pose by exp of a 6-vector [rotation (rad); translation (m)].
 Pose applyIncrement(const Pose& T, const Eigen::Matrix<double, 6, 1>& delta);
 

@@ -128,16 +128,7 @@ OrbExtractor::OrbExtractor(const OrbParams& params) : params_(params) {
     throw InputError("orb: need 1 <= fast_min_threshold <= fast_threshold");
   }
   const int L = params_.levels;
-  scales_.resize(L);
-  inv_scales_.resize(L);
-  sigma2_.resize(L);
-  inv_sigma2_.resize(L);
-  for (int l = 0; l < L; ++l) {
-    scales_[l] = std::pow(params_.scale_factor, l);
-    inv_scales_[l] = 1.0 / scales_[l];
-    sigma2_[l] = scales_[l] * scales_[l];
-    inv_sigma2_[l] = 1.0 / sigma2_[l];
-  }
+  pyramid_ = ScalePyramid::make(L, params_.scale_factor);
   // Geometric share of features per level (more on the finer levels).
   const double f = 1.0 / params_.scale_factor;
   double per_level = params_.features * (1 - f) / (1 - std::pow(f, L));
@@ -216,8 +207,8 @@ std::vector<cv::KeyPoint> OrbExtractor::detectLevel(const cv::Mat& img, int leve
     float angle = cv::fastAtan2(float(m01), float(m10));
     kp.angle = angle;
     kp.octave = level;
-    kp.size = float(kPatchSize * scales_[level]);
-    kp.pt *= float(scales_[level]);  // to level-0 coordinates
+    kp.size = float(kPatchSize * pyramid_.scales[level]);
+    kp.pt *= float(pyramid_.scales[level]);  // to level-0 coordinates
   }
   return kps;
 }
@@ -228,7 +219,7 @@ OrbFeatures OrbExtractor::extract(const cv::Mat& gray) const {
   cv::Mat level_img = gray;
   for (int l = 0; l < params_.levels; ++l) {
     if (l > 0) {
-      const cv::Size sz(cvRound(gray.cols * inv_scales_[l]), cvRound(gray.rows * inv_scales_[l]));
+      const cv::Size sz(cvRound(gray.cols * pyramid_.inv_scales[l]), cvRound(gray.rows * pyramid_.inv_scales[l]));
       cv::Mat next;
       cv::resize(level_img, next, sz, 0, 0, cv::INTER_LINEAR_EXACT);
       level_img = next;

@@ -7,6 +7,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/features2d.hpp>
 
+#include "tkgslam/feature/ScalePyramid.h"
+
 namespace tkgslam::feature {
 
 struct OrbParams {
@@ -34,17 +36,13 @@ class OrbExtractor {
 
   const OrbParams& params() const { return params_; }
   int levels() const { return params_.levels; }
-  /// scale_factor^level, its inverse, and their squares (sigma^2 used to weight residuals).
-  const std::vector<double>& scales() const { return scales_; }
-  const std::vector<double>& invScales() const { return inv_scales_; }
-  const std::vector<double>& sigma2() const { return sigma2_; }
-  const std::vector<double>& invSigma2() const { return inv_sigma2_; }
+  const ScalePyramid& pyramid() const { return pyramid_; }
 
  private:
   std::vector<cv::KeyPoint> detectLevel(const cv::Mat& level_image, int level) const;
 
   OrbParams params_;
-  std::vector<double> scales_, inv_scales_, sigma2_, inv_sigma2_;
+  ScalePyramid pyramid_;
   std::vector<int> features_per_level_;
   std::vector<int> umax_;  // half-width of each row of the circular orientation patch
   cv::Ptr<cv::ORB> descriptor_;

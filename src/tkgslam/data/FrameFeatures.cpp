@@ -1,0 +1,72 @@
+#include "tkgslam/data/FrameFeatures.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tkgslam::data {
+
+std::vector<int> FrameFeatures::featuresInArea(float x, float y, float r, int min_level, int max_level) const {
+  std::vector<int> out;
+  const int c0 = std::max(0, int(std::floor((x - min_x - r) * cell_w_inv)));
+  const int c1 = std::min(kGridCols - 1, int(std::ceil((x - min_x + r) * cell_w_inv)));
+  const int r0 = std::max(0, int(std::floor((y - min_y - r) * cell_h_inv)));
+  const int r1 = std::min(kGridRows - 1, int(std::ceil((y - min_y + r) * cell_h_inv)));
+  if (c0 > kGridCols - 1 || c1 < 0 || r0 > kGridRows - 1 || r1 < 0) return out;
+  for (int gy = r0; gy <= r1; ++gy) {
+    for (int gx = c0; gx <= c1; ++gx) {
+      for (int i : grid[gy * kGridCols + gx]) {
+        const auto& kp = ideal[i];
+        if (min_level >= 0 && kp.octave < min_level) continue;
+        if (max_level >= 0 && kp.octave > max_level) continue;
+        if (std::abs(kp.pt.x - x) < r && std::abs(kp.pt.y - y) < r) out.push_back(i);
+      }
+    }
+  }
+  return out;
+}
+
+std::shared_ptr<FrameFeatures> makeFrameFeatures(feature::OrbFeatures orb, const cv::Mat& bgr, const cv::Mat& depth_m,
+                                                 const camera::PinholeCamera& camera, const DepthParams& dp) {
+  auto f = std::make_shared<FrameFeatures>();
+  f->raw = std::move(orb.keypoints);
+  f->descriptors = orb.descriptors;
+  const int n = f->size();
+  std::vector<cv::Point2f> pts(n);
+  for (int i = 0; i < n; ++i) pts[i] = f->raw[i].pt;
+  const auto und = camera.undistort(pts);
+  f->ideal = f->raw;
+  f->depth.assign(n, 0.0f);
+  f->u_right.assign(n, -1.0f);
+  f->excluded.assign(n, 0);
+  f->colour.assign(n, cv::Vec3b(128, 128, 128));
+  for (int i = 0; i < n; ++i) {
+    f->ideal[i].pt = und[i];
+    const int u = cvRound(f->raw[i].pt.x), v = cvRound(f->raw[i].pt.y);
+    if (!bgr.empty() && bgr.type() == CV_8UC3 && u >= 0 && v >= 0 && u < bgr.cols && v < bgr.rows) {
+      f->colour[i] = bgr.at<cv::Vec3b>(v, u);
+    }
+    if (!depth_m.empty() && u >= 0 && v >= 0 && u < depth_m.cols && v < depth_m.rows) {
+      const float d = depth_m.at<float>(v, u);
+      if (d > 0 && d < dp.max_depth && std::isfinite(d)) {
+        f->depth[i] = d;
+        f->u_right[i] = float(und[i].x - dp.baseline_fx / d);
+      }
+    }
+  }
+  f->min_x = float(camera.minX());
+  f->max_x = float(camera.maxX());
+  f->min_y = float(camera.minY());
+  f->max_y = float(camera.maxY());
+  f->cell_w_inv = FrameFeatures::kGridCols / (f->max_x - f->min_x);
+  f->cell_h_inv = FrameFeatures::kGridRows / (f->max_y - f->min_y);
+  f->grid.assign(FrameFeatures::kGridCols * FrameFeatures::kGridRows, {});
+  for (int i = 0; i < n; ++i) {
+    const int gx = int(std::floor((f->ideal[i].pt.x - f->min_x) * f->cell_w_inv));
+    const int gy = int(std::floor((f->ideal[i].pt.y - f->min_y) * f->cell_h_inv));
+    if (gx < 0 || gy < 0 || gx >= FrameFeatures::kGridCols || gy >= FrameFeatures::kGridRows) continue;
+    f->grid[gy * FrameFeatures::kGridCols + gx].push_back(i);
+  }
+  return f;
+}
+
+}  // namespace tkgslam::data

@@ -1,0 +1,45 @@
+#pragma once
+// The per-image feature data shared (immutably) by a Frame and the KeyFrame made from it:
+// keypoints in raw and ideal (undistorted) pixels, their depth, ORB descriptors, and a grid
+// index for fast radius queries in ideal-pixel coordinates.
+#include <memory>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "tkgslam/camera/PinholeCamera.h"
+#include "tkgslam/feature/OrbExtractor.h"
+#include "tkgslam/system/SlamConfig.h"
+
+namespace tkgslam::data {
+
+struct FrameFeatures {
+  static constexpr int kGridCols = 64;
+  static constexpr int kGridRows = 48;
+
+  std::vector<cv::KeyPoint> raw;    ///< detected keypoints, raw pixels (octave, angle, size)
+  std::vector<cv::KeyPoint> ideal;  ///< same keypoints, undistorted pixel positions
+  std::vector<float> depth;         ///< metres along the optical axis, 0 = none
+  std::vector<float> u_right;       ///< virtual right-camera u = u - bf / depth, < 0 = none
+  cv::Mat descriptors;              ///< N x 32 bytes
+  std::vector<char> excluded;       ///< 1 = keypoint must not be used (e.g. on a dynamic object)
+  std::vector<cv::Vec3b> colour;    ///< BGR colour at the keypoint (for the exported map)
+
+  float min_x = 0, max_x = 0, min_y = 0, max_y = 0;  ///< image bounds in ideal pixels
+  float cell_w_inv = 0, cell_h_inv = 0;
+  std::vector<std::vector<int>> grid;  ///< kGridCols * kGridRows cells of keypoint indices
+
+  int size() const { return static_cast<int>(raw.size()); }
+  bool hasDepth(int i) const { return depth[i] > 0; }
+
+  /// Indices of keypoints within radius r (square window) of (x, y) in ideal pixels whose octave
+  /// is in [min_level, max_level] (negative = unbounded).
+  std::vector<int> featuresInArea(float x, float y, float r, int min_level = -1, int max_level = -1) const;
+};
+
+/// Builds the features of one RGB-D image: undistorts keypoints, attaches depth (looked up at
+/// the raw keypoint pixel; depth is registered to colour) and fills the grid.
+std::shared_ptr<FrameFeatures> makeFrameFeatures(feature::OrbFeatures orb, const cv::Mat& bgr, const cv::Mat& depth_m,
+                                                 const camera::PinholeCamera& camera, const DepthParams& depth);
+
+}  // namespace tkgslam::data

@@ -1,0 +1,62 @@
+#pragma once
+// A 3-D landmark (world frame, metres) observed by keyframes. All members are read and written
+// with the Map's mutex held.
+#include <map>
+#include <memory>
+
+#include <opencv2/core.hpp>
+
+#include "tkgslam/common/Pose.h"
+#include "tkgslam/feature/ScalePyramid.h"
+
+namespace tkgslam::data {
+
+class KeyFrame;
+
+/// Orders keyframes by id so that iteration is deterministic (never by address).
+struct KeyFrameIdLess {
+  bool operator()(const KeyFrame* a, const KeyFrame* b) const;
+};
+
+class MapPoint {
+ public:
+  MapPoint(long id, const Vec3& pos_w, KeyFrame* reference, const cv::Mat& descriptor);
+
+  const long id;
+  Vec3 pos_w;
+  cv::Mat descriptor;           ///< 1 x 32, the observation descriptor closest to all others
+  Vec3 normal = Vec3::Zero();   ///< mean viewing direction (unit), world frame
+  float min_distance = 0, max_distance = 0;  ///< scale-invariance range, metres
+  std::map<KeyFrame*, int, KeyFrameIdLess> observations;  ///< keyframe -> keypoint index
+  KeyFrame* reference = nullptr;
+  long first_keyframe_id = 0;
+  int visible = 1;  ///< frames in whose view the point was predicted
+  int found = 1;    ///< frames in which it was matched
+  bool bad = false;
+  std::shared_ptr<MapPoint> replaced_by;  ///< set when fused into another point
+
+  // Scratch used by tracking (tracking thread, under the map lock).
+  long last_frame_seen = -1;
+  long local_map_frame = -1;
+  bool track_in_view = false;
+  float track_x = 0, track_y = 0, track_x_right = 0, track_view_cos = 0;
+  int track_level = 0;
+  // Scratch used by local mapping.
+  long ba_local_for = -1;
+  long fuse_for = -1;
+
+  /// Observation weight as ORB-SLAM2 counts it: 2 for an observation with depth, else 1.
+  int observationWeight() const;
+  float foundRatio() const { return float(found) / float(visible); }
+  /// Pyramid level at which the point is expected at distance `dist` (metres).
+  int predictScale(double dist, const feature::ScalePyramid& pyr) const;
+  /// Recomputes normal and distance range from the observing keyframes.
+  void updateNormalAndDepth(const feature::ScalePyramid& pyr);
+  /// Picks the observation descriptor with the least median distance to the others.
+  void computeDistinctiveDescriptor();
+};
+
+/// Hamming distance of two 32-byte ORB descriptors.
+int descriptorDistance(const cv::Mat& a, const cv::Mat& b);
+
+}  // namespace tkgslam::data

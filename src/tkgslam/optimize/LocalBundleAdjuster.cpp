@@ -1,0 +1,119 @@
+#include "tkgslam/optimize/LocalBundleAdjuster.h"
+
+#include <cmath>
+
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+
+namespace tkgslam::optimize {
+
+namespace {
+
+// Reprojection residual of a world point in a camera with pose T_cw = (q, t), quaternion stored
+// as Eigen (x, y, z, w). Residual = sqrt(information) * (observed - predicted).
+struct ReprojectionError {
+  ReprojectionError(const BundleObservation& o, const PinholeIntrinsics& K) : o_(o), K_(K), s_(std::sqrt(o.information)) {}
+
+  template <typename T>
+  bool operator()(const T* q, const T* t, const T* p, T* r) const {
+    Eigen::Map<const Eigen::Quaternion<T>> quat(q);
+    Eigen::Map<const Eigen::Matrix<T, 3, 1>> trans(t), pw(p);
+    const Eigen::Matrix<T, 3, 1> pc = quat * pw + trans;
+    const T iz = T(1.0) / pc.z();
+    const T u = T(K_.fx) * pc.x() * iz + T(K_.cx);
+    const T v = T(K_.fy) * pc.y() * iz + T(K_.cy);
+    r[0] = T(s_) * (T(o_.uv.x()) - u);
+    r[1] = T(s_) * (T(o_.uv.y()) - v);
+    if (o_.u_right >= 0) r[2] = T(s_) * (T(o_.u_right) - (u - T(K_.bf) * iz));
+    return true;
+  }
+
+  BundleObservation o_;
+  PinholeIntrinsics K_;
+  double s_;
+};
+
+double chi2Of(const BundleObservation& o, const PinholeIntrinsics& K, const Eigen::Quaterniond& q,
+              const Vec3& t, const Vec3& p, bool& behind) {
+  const Vec3 pc = q * p + t;
+  behind = pc.z() <= 0;
+  if (behind) return 1e30;
+  const double u = K.fx * pc.x() / pc.z() + K.cx, v = K.fy * pc.y() / pc.z() + K.cy;
+  double e2 = (o.uv.x() - u) * (o.uv.x() - u) + (o.uv.y() - v) * (o.uv.y() - v);
+  if (o.u_right >= 0) {
+    const double er = o.u_right - (u - K.bf / pc.z());
+    e2 += er * er;
+  }
+  return e2 * o.information;
+}
+
+}  // namespace
+
+std::vector<char> solveBundle(BundleProblem& pb, const PinholeIntrinsics& K, const BundleOptions& opt) {
+  const size_t nc = pb.poses.size();
+  std::vector<Eigen::Quaterniond> q(nc);
+  std::vector<Vec3> t(nc);
+  for (size_t i = 0; i < nc; ++i) {
+    q[i] = Eigen::Quaterniond(pb.poses[i].linear());
+    q[i].normalize();
+    t[i] = pb.poses[i].translation();
+  }
+  std::vector<char> outlier(pb.observations.size(), 0);
+
+  auto run = [&](int iterations, bool robust) {
+    ceres::Problem::Options popts;
+    popts.loss_function_ownership = ceres::TAKE_OWNERSHIP;
+    ceres::Problem problem(popts);
+    std::vector<char> pose_added(nc, 0);
+    for (size_t k = 0; k < pb.observations.size(); ++k) {
+      if (outlier[k]) continue;
+      const auto& o = pb.observations[k];
+      const bool stereo = o.u_right >= 0;
+      ceres::CostFunction* cost =
+          stereo ? static_cast<ceres::CostFunction*>(
+                       new ceres::AutoDiffCostFunction<ReprojectionError, 3, 4, 3, 3>(new ReprojectionError(o, K)))
+                 : new ceres::AutoDiffCostFunction<ReprojectionError, 2, 4, 3, 3>(new ReprojectionError(o, K));
+      ceres::LossFunction* loss =
+          robust ? new ceres::HuberLoss(std::sqrt(stereo ? opt.chi2_stereo : opt.chi2_mono)) : nullptr;
+      problem.AddResidualBlock(cost, loss, q[o.camera].coeffs().data(), t[o.camera].data(), pb.points[o.point].data());
+      if (!pose_added[o.camera]) {
+        pose_added[o.camera] = 1;
+        problem.SetManifold(q[o.camera].coeffs().data(), new ceres::EigenQuaternionManifold);
+        if (pb.fixed_pose[o.camera]) {
+          problem.SetParameterBlockConstant(q[o.camera].coeffs().data());
+          problem.SetParameterBlockConstant(t[o.camera].data());
+        }
+      }
+    }
+    if (problem.NumResidualBlocks() == 0) return;
+    ceres::Solver::Options so;
+    so.linear_solver_type = ceres::SPARSE_SCHUR;
+    so.max_num_iterations = iterations;
+    so.num_threads = opt.threads;
+    so.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(so, &problem, &summary);
+  };
+  auto classify = [&] {
+    for (size_t k = 0; k < pb.observations.size(); ++k) {
+      const auto& o = pb.observations[k];
+      bool behind = false;
+      const double chi2 = chi2Of(o, K, q[o.camera], t[o.camera], pb.points[o.point], behind);
+      outlier[k] = behind || chi2 > (o.u_right >= 0 ? opt.chi2_stereo : opt.chi2_mono);
+    }
+  };
+
+  run(opt.iterations_first, true);
+  classify();
+  if (opt.iterations_second > 0) {
+    run(opt.iterations_second, false);
+    classify();
+  }
+  for (size_t i = 0; i < nc; ++i) {
+    pb.poses[i].linear() = q[i].normalized().toRotationMatrix();
+    pb.poses[i].translation() = t[i];
+  }
+  return outlier;
+}
+
+}  // namespace tkgslam::optimize

@@ -1,0 +1,464 @@
+#include "tkgslam/tracking/Tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <mutex>
+
+#include <opencv2/calib3d.hpp>
+#include <spdlog/spdlog.h>
+
+namespace tkgslam::tracking {
+
+using data::Frame;
+using data::KeyFrame;
+using data::MapPoint;
+
+Tracker::Tracker(data::Map& map, const camera::PinholeCamera& camera, const feature::ScalePyramid& pyramid,
+                 const SlamConfig& config)
+    : map_(map), cam_(camera), pyr_(pyramid), cfg_(config), matcher_(camera, pyramid, config.depth.baseline_fx) {
+  K_ = {camera.fx(), camera.fy(), camera.cx(), camera.cy(), config.depth.baseline_fx};
+}
+
+TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue) {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  TrackResult result;
+  if (state_ == TrackingState::NotInitialized) {
+    if (initialize(frame, false)) {
+      result.tracked = true;
+      result.new_keyframe = last_kf_;
+    }
+    return result;
+  }
+
+  bool ok = false;
+  if (state_ == TrackingState::Ok) {
+    // Replace points fused by local mapping since the last frame.
+    for (auto& mp : last_frame_->map_points) {
+      if (mp && mp->replaced_by) mp = mp->replaced_by;
+    }
+    if (has_velocity_ && frame.id > last_reloc_frame_ + 1) {
+      ok = trackWithMotionModel(frame);
+      if (!ok) ok = trackReferenceKeyFrame(frame);
+    } else {
+      ok = trackReferenceKeyFrame(frame);
+    }
+  } else {
+    ok = relocalize(frame);
+  }
+  if (ok) ok = trackLocalMap(frame);
+
+  if (ok) {
+    state_ = TrackingState::Ok;
+    lost_frames_ = 0;
+    velocity_ = orthonormalized(frame.T_cw * last_frame_->T_cw.inverse());
+    has_velocity_ = true;
+    // Temporary visual-odometry points are not map points; forget them.
+    for (int i = 0; i < frame.size(); ++i) {
+      if (frame.map_points[i] && frame.map_points[i]->observations.empty()) {
+        frame.map_points[i].reset();
+        frame.outlier[i] = 0;
+      }
+    }
+    temporal_points_.clear();
+    if (needNewKeyFrame(frame, mapper_idle, mapper_queue)) result.new_keyframe = createKeyFrame(frame);
+    for (int i = 0; i < frame.size(); ++i) {
+      if (frame.outlier[i]) frame.map_points[i].reset();
+    }
+    if (!frame.reference) frame.reference = reference_kf_;
+    records_.push_back({frame.timestamp, frame.reference, frame.T_cw * frame.reference->T_wc()});
+    result.tracked = true;
+    result.inliers = matches_inliers_;
+    last_frame_ = std::make_unique<Frame>(std::move(frame));
+    return result;
+  }
+
+  state_ = TrackingState::Lost;
+  has_velocity_ = false;
+  ++lost_frames_;
+  temporal_points_.clear();
+  if (lost_frames_ > cfg_.tracking.relocalization_attempts) {
+    // Relocalisation keeps failing: start a new map segment where the camera was last seen.
+    frame.T_cw = last_frame_->T_cw;
+    spdlog::warn("tracking lost for {} frames; starting a new map segment at frame {}", lost_frames_, frame.id);
+    map_.clearActive();
+    if (initialize(frame, true)) {
+      result.tracked = true;
+      result.new_keyframe = last_kf_;
+      result.new_segment = true;
+    }
+  }
+  return result;
+}
+
+bool Tracker::initialize(Frame& frame, bool new_segment) {
+  const auto& F = *frame.features;
+  int with_depth = 0;
+  for (int i = 0; i < frame.size(); ++i) with_depth += F.hasDepth(i) && !F.excluded[i];
+  if (with_depth < cfg_.tracking.min_init_features) return false;
+  if (!new_segment) frame.T_cw = Pose::Identity();
+  auto kf = std::make_shared<KeyFrame>(map_.newKeyFrameId(), frame.id, frame.timestamp, frame.features, frame.T_cw);
+  for (int i = 0; i < frame.size(); ++i) {
+    if (!F.hasDepth(i) || F.excluded[i]) continue;
+    const Vec3 pw = kf->T_wc() * cam_.unproject(Vec2(F.ideal[i].pt.x, F.ideal[i].pt.y), F.depth[i]);
+    auto mp = std::make_shared<MapPoint>(map_.newMapPointId(), pw, kf.get(), F.descriptors.row(i));
+    mp->observations[kf.get()] = i;
+    kf->addMapPoint(mp, i);
+    frame.map_points[i] = mp;
+    map_.addMapPoint(mp);
+  }
+  if (kf->id == 0) kf->not_erase = true;
+  map_.addKeyFrame(kf);
+  for (auto& mp : kf->map_points) {
+    if (mp) mp->updateNormalAndDepth(pyr_);
+  }
+  frame.reference = kf;
+  reference_kf_ = kf;
+  last_kf_ = kf;
+  local_keyframes_ = {kf};
+  local_points_ = map_.mapPoints();
+  state_ = TrackingState::Ok;
+  lost_frames_ = 0;
+  has_velocity_ = false;
+  last_reloc_frame_ = frame.id;
+  records_.push_back({frame.timestamp, kf, Pose::Identity()});
+  last_frame_ = std::make_unique<Frame>(frame);
+  spdlog::debug("map initialised at frame {} with {} points", frame.id, map_.mapPointCount());
+  return true;
+}
+
+void Tracker::updateLastFrame() {
+  Frame& last = *last_frame_;
+  // The reference keyframe may have been refined by bundle adjustment since.
+  if (!records_.empty() && records_.back().reference && !records_.back().reference->bad) {
+    last.T_cw = orthonormalized(records_.back().T_cr * records_.back().reference->T_cw());
+  }
+  if (last_kf_ && last_kf_->frame_id == last.id) return;
+  // Temporary points from the last frame's depth help the next frame (as in ORB-SLAM2 RGB-D).
+  const auto& F = *last.features;
+  std::vector<std::pair<float, int>> by_depth;
+  for (int i = 0; i < last.size(); ++i) {
+    if (F.hasDepth(i) && !F.excluded[i]) by_depth.emplace_back(F.depth[i], i);
+  }
+  std::sort(by_depth.begin(), by_depth.end());
+  int n = 0;
+  const Pose T_wc = last.T_cw.inverse();
+  for (const auto& [z, i] : by_depth) {
+    const auto& mp = last.map_points[i];
+    if (!mp || mp->observations.empty()) {
+      const Vec3 pw = T_wc * cam_.unproject(Vec2(F.ideal[i].pt.x, F.ideal[i].pt.y), z);
+      auto tmp = std::make_shared<MapPoint>(-1, pw, nullptr, F.descriptors.row(i));
+      last.map_points[i] = tmp;
+      last.outlier[i] = 0;
+      temporal_points_.push_back(tmp);
+    }
+    ++n;
+    if (z > cfg_.depth.close_threshold && n > 100) break;
+  }
+}
+
+int Tracker::optimizeFramePose(Frame& frame) {
+  const auto& F = *frame.features;
+  std::vector<optimize::PoseObservation> obs;
+  std::vector<int> index;
+  for (int i = 0; i < frame.size(); ++i) {
+    if (!frame.map_points[i]) continue;
+    optimize::PoseObservation o;
+    o.p_w = frame.map_points[i]->pos_w;
+    o.uv = Vec2(F.ideal[i].pt.x, F.ideal[i].pt.y);
+    o.u_right = F.u_right[i];
+    o.information = pyr_.inv_sigma2[F.ideal[i].octave];
+    obs.push_back(o);
+    index.push_back(i);
+  }
+  std::vector<char> outlier;
+  const int inliers = optimize::optimizePose(obs, K_, frame.T_cw, outlier);
+  for (size_t k = 0; k < index.size(); ++k) frame.outlier[index[k]] = outlier[k];
+  return inliers;
+}
+
+int Tracker::discardOutliers(Frame& frame) {
+  int in_map = 0;
+  for (int i = 0; i < frame.size(); ++i) {
+    auto& mp = frame.map_points[i];
+    if (!mp) continue;
+    if (frame.outlier[i]) {
+      mp->track_in_view = false;
+      mp->last_frame_seen = frame.id;
+      mp.reset();
+      frame.outlier[i] = 0;
+    } else if (!mp->observations.empty()) {
+      ++in_map;
+    }
+  }
+  return in_map;
+}
+
+bool Tracker::trackReferenceKeyFrame(Frame& frame) {
+  if (!reference_kf_ || reference_kf_->bad) return false;
+  std::vector<std::shared_ptr<MapPoint>> matches;
+  const int n = matcher_.searchByDescriptors(*reference_kf_, frame, matches);
+  if (n < 15) {
+    spdlog::debug("frame {}: reference keyframe {} gave {} matches", frame.id, reference_kf_->id, n);
+    return false;
+  }
+  frame.map_points = matches;
+  std::fill(frame.outlier.begin(), frame.outlier.end(), 0);
+  frame.T_cw = last_frame_->T_cw;
+  optimizeFramePose(frame);
+  const int in_map = discardOutliers(frame);
+  spdlog::debug("frame {}: reference keyframe {} gave {} matches, {} inliers", frame.id, reference_kf_->id, n, in_map);
+  return in_map >= 10;
+}
+
+bool Tracker::trackWithMotionModel(Frame& frame) {
+  updateLastFrame();
+  frame.T_cw = orthonormalized(velocity_ * last_frame_->T_cw);
+  std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
+  const float th = 15.0f;
+  int n = matcher_.searchByProjection(frame, *last_frame_, th);
+  if (n < 20) {
+    std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
+    n = matcher_.searchByProjection(frame, *last_frame_, 2 * th);
+  }
+  if (n < 20) {
+    spdlog::debug("frame {}: motion model found {} matches", frame.id, n);
+    return false;
+  }
+  std::fill(frame.outlier.begin(), frame.outlier.end(), 0);
+  optimizeFramePose(frame);
+  const int in_map = discardOutliers(frame);
+  spdlog::debug("frame {}: motion model {} matches, {} in map after optimisation", frame.id, n, in_map);
+  return in_map >= 10;
+}
+
+bool Tracker::isInFrustum(MapPoint& mp, const Frame& frame, double min_view_cos) const {
+  mp.track_in_view = false;
+  const Vec3 pc = frame.T_cw * mp.pos_w;
+  if (pc.z() <= 0) return false;
+  const Vec2 uv = cam_.project(pc);
+  if (!cam_.inImage(uv)) return false;
+  const Vec3 PO = mp.pos_w - frame.centre();
+  const double dist = PO.norm();
+  if (dist < 0.8 * mp.min_distance || dist > 1.2 * mp.max_distance) return false;
+  const double view_cos = PO.dot(mp.normal) / dist;
+  if (view_cos < min_view_cos) return false;
+  mp.track_in_view = true;
+  mp.track_x = float(uv.x());
+  mp.track_y = float(uv.y());
+  mp.track_x_right = float(uv.x() - K_.bf / pc.z());
+  mp.track_level = mp.predictScale(dist, pyr_);
+  mp.track_view_cos = float(view_cos);
+  return true;
+}
+
+void Tracker::updateLocalMap(Frame& frame) {
+  // Keyframes that see the frame's points vote; the most voted becomes the reference.
+  std::map<KeyFrame*, int, data::KeyFrameIdLess> votes;
+  for (int i = 0; i < frame.size(); ++i) {
+    const auto& mp = frame.map_points[i];
+    if (!mp || mp->bad) continue;
+    for (const auto& [kf, idx] : mp->observations) votes[kf]++;
+  }
+  if (votes.empty()) return;
+  local_keyframes_.clear();
+  int best = 0;
+  KeyFrame* best_kf = nullptr;
+  for (const auto& [kf, n] : votes) {
+    if (kf->bad) continue;
+    if (n > best) {
+      best = n;
+      best_kf = kf;
+    }
+    local_keyframes_.push_back(map_.keyFrame(kf->id));
+    kf->track_reference_for = frame.id;
+  }
+  // Neighbours of those: best covisibles, children and parent (up to 80 keyframes).
+  const size_t direct = local_keyframes_.size();
+  for (size_t k = 0; k < direct && local_keyframes_.size() < 80; ++k) {
+    KeyFrame* kf = local_keyframes_[k].get();
+    auto add = [&](KeyFrame* n) {
+      if (!n || n->bad || n->track_reference_for == frame.id) return false;
+      n->track_reference_for = frame.id;
+      local_keyframes_.push_back(map_.keyFrame(n->id));
+      return true;
+    };
+    for (KeyFrame* n : kf->bestCovisibles(10)) {
+      if (add(n)) break;
+    }
+    for (KeyFrame* n : kf->children) {
+      if (add(n)) break;
+    }
+    add(kf->parent);
+  }
+  if (best_kf) {
+    reference_kf_ = map_.keyFrame(best_kf->id);
+    frame.reference = reference_kf_;
+  }
+  local_points_.clear();
+  for (const auto& kf : local_keyframes_) {
+    for (const auto& mp : kf->map_points) {
+      if (!mp || mp->bad || mp->local_map_frame == frame.id) continue;
+      mp->local_map_frame = frame.id;
+      local_points_.push_back(mp);
+    }
+  }
+}
+
+int Tracker::searchLocalPoints(Frame& frame) {
+  for (auto& mp : frame.map_points) {
+    if (!mp) continue;
+    if (mp->bad) {
+      mp.reset();
+      continue;
+    }
+    mp->visible++;
+    mp->last_frame_seen = frame.id;
+    mp->track_in_view = false;
+  }
+  int to_match = 0;
+  for (const auto& mp : local_points_) {
+    if (mp->last_frame_seen == frame.id || mp->bad) continue;
+    if (isInFrustum(*mp, frame, 0.5)) {
+      mp->visible++;
+      ++to_match;
+    }
+  }
+  if (to_match == 0) return 0;
+  const float th = frame.id < last_reloc_frame_ + 2 ? 5.0f : 3.0f;
+  return matcher_.searchByProjection(frame, local_points_, th);
+}
+
+bool Tracker::trackLocalMap(Frame& frame) {
+  updateLocalMap(frame);
+  searchLocalPoints(frame);
+  optimizeFramePose(frame);
+  matches_inliers_ = 0;
+  for (int i = 0; i < frame.size(); ++i) {
+    const auto& mp = frame.map_points[i];
+    if (!mp) continue;
+    if (!frame.outlier[i]) {
+      mp->found++;
+      if (!mp->observations.empty()) ++matches_inliers_;
+    }
+  }
+  const int needed = frame.id < last_reloc_frame_ + cfg_.camera.fps ? 50 : cfg_.tracking.min_tracked_inliers;
+  spdlog::debug("frame {}: local map {} points, {} inliers (need {})", frame.id, local_points_.size(),
+                matches_inliers_, needed);
+  return matches_inliers_ >= needed;
+}
+
+bool Tracker::needNewKeyFrame(const Frame& frame, bool mapper_idle, int mapper_queue) const {
+  const int max_frames = cfg_.tracking.max_frames_between_keyframes > 0 ? cfg_.tracking.max_frames_between_keyframes
+                                                                        : int(cfg_.camera.fps);
+  const int n_kfs = int(map_.keyFrameCount());
+  if (frame.id < last_reloc_frame_ + max_frames && n_kfs > max_frames) return false;
+  const int min_obs = n_kfs <= 2 ? 2 : 3;
+  const int ref_matches = reference_kf_->trackedMapPoints(min_obs);
+  const auto& F = *frame.features;
+  int tracked_close = 0, untracked_close = 0;
+  for (int i = 0; i < frame.size(); ++i) {
+    if (F.depth[i] > 0 && F.depth[i] < cfg_.depth.close_threshold) {
+      if (frame.map_points[i] && !frame.outlier[i]) ++tracked_close;
+      else ++untracked_close;
+    }
+  }
+  const bool need_close = tracked_close < 100 && untracked_close > 70;
+  const double ref_ratio = n_kfs < 2 ? 0.4 : 0.75;
+  const bool c1a = frame.id >= last_kf_->frame_id + max_frames;
+  const bool c1b = mapper_idle;
+  const bool c1c = matches_inliers_ < ref_matches * 0.25 || need_close;
+  const bool c2 = (matches_inliers_ < ref_matches * ref_ratio || need_close) && matches_inliers_ > 15;
+  if (!((c1a || c1b || c1c) && c2)) return false;
+  return mapper_idle || mapper_queue < 3;
+}
+
+std::shared_ptr<KeyFrame> Tracker::createKeyFrame(Frame& frame) {
+  auto kf = std::make_shared<KeyFrame>(map_.newKeyFrameId(), frame.id, frame.timestamp, frame.features, frame.T_cw);
+  const auto& F = *frame.features;
+  // Matched map points become observations of the new keyframe.
+  for (int i = 0; i < frame.size(); ++i) {
+    const auto& mp = frame.map_points[i];
+    if (!mp || mp->bad || mp->observations.count(kf.get())) continue;
+    kf->addMapPoint(mp, i);
+    mp->observations[kf.get()] = i;
+  }
+  // New points from depth, nearest first: all close ones, at least 100.
+  std::vector<std::pair<float, int>> by_depth;
+  for (int i = 0; i < frame.size(); ++i) {
+    if (F.hasDepth(i) && !F.excluded[i]) by_depth.emplace_back(F.depth[i], i);
+  }
+  std::sort(by_depth.begin(), by_depth.end());
+  int n = 0;
+  for (const auto& [z, i] : by_depth) {
+    if (!kf->map_points[i]) {
+      const Vec3 pw = kf->T_wc() * cam_.unproject(Vec2(F.ideal[i].pt.x, F.ideal[i].pt.y), z);
+      auto mp = std::make_shared<MapPoint>(map_.newMapPointId(), pw, kf.get(), F.descriptors.row(i));
+      mp->observations[kf.get()] = i;
+      kf->addMapPoint(mp, i);
+      frame.map_points[i] = mp;
+      frame.outlier[i] = 0;
+      map_.addMapPoint(mp);
+      mp->updateNormalAndDepth(pyr_);
+    }
+    ++n;
+    if (z > cfg_.depth.close_threshold && n > 100) break;
+  }
+  map_.addKeyFrame(kf);
+  kf->updateConnections();
+  reference_kf_ = kf;
+  last_kf_ = kf;
+  frame.reference = kf;
+  return kf;
+}
+
+bool Tracker::relocalize(Frame& frame) {
+  // Candidates: the most recent keyframes of the active map.
+  auto kfs = map_.keyFrames();
+  if (kfs.empty()) return false;
+  const size_t first = kfs.size() > 30 ? kfs.size() - 30 : 0;
+  const auto& F = *frame.features;
+  for (size_t k = kfs.size(); k-- > first;) {
+    const auto& kf = kfs[k];
+    std::vector<std::shared_ptr<MapPoint>> matches;
+    if (matcher_.searchByDescriptors(*kf, frame, matches) < 15) continue;
+    std::vector<cv::Point3f> obj;
+    std::vector<cv::Point2f> img;
+    std::vector<int> idx;
+    for (int i = 0; i < frame.size(); ++i) {
+      if (!matches[i]) continue;
+      const Vec3& p = matches[i]->pos_w;
+      obj.emplace_back(float(p.x()), float(p.y()), float(p.z()));
+      img.push_back(F.ideal[i].pt);
+      idx.push_back(i);
+    }
+    const cv::Matx33d K(cam_.fx(), 0, cam_.cx(), 0, cam_.fy(), cam_.cy(), 0, 0, 1);
+    cv::Mat rvec, tvec;
+    std::vector<int> inliers;
+    if (!cv::solvePnPRansac(obj, img, K, cv::noArray(), rvec, tvec, false, 200, 4.0f, 0.99, inliers,
+                            cv::SOLVEPNP_EPNP) ||
+        inliers.size() < 15) {
+      continue;
+    }
+    cv::Mat R;
+    cv::Rodrigues(rvec, R);
+    Pose T = Pose::Identity();
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) T.linear()(r, c) = R.at<double>(r, c);
+      T.translation()[r] = tvec.at<double>(r);
+    }
+    frame.T_cw = T;
+    std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
+    for (int i : inliers) frame.map_points[idx[i]] = matches[idx[i]];
+    std::fill(frame.outlier.begin(), frame.outlier.end(), 0);
+    if (optimizeFramePose(frame) < 10) continue;
+    if (discardOutliers(frame) < 15) continue;
+    reference_kf_ = kf;
+    last_reloc_frame_ = frame.id;
+    spdlog::info("relocalised at frame {} against keyframe {}", frame.id, kf->id);
+    return true;
+  }
+  return false;
+}
+
+}  // namespace tkgslam::tracking

@@ -1,0 +1,91 @@
+#pragma once
+// Camera tracking (ORB-SLAM2's RGB-D tracking): map initialisation from the first frame with
+// enough depth, constant-velocity motion model with projection matching, fallback to the
+// reference keyframe, local-map tracking, keyframe decision, relocalisation when lost and a new
+// map segment when relocalisation keeps failing. Never aborts the run.
+#include <memory>
+#include <vector>
+
+#include "tkgslam/camera/PinholeCamera.h"
+#include "tkgslam/data/Frame.h"
+#include "tkgslam/data/Map.h"
+#include "tkgslam/feature/ScalePyramid.h"
+#include "tkgslam/match/OrbMatcher.h"
+#include "tkgslam/optimize/PoseOptimizer.h"
+#include "tkgslam/system/SlamConfig.h"
+
+namespace tkgslam::tracking {
+
+enum class TrackingState { NotInitialized, Ok, Lost };
+
+/// What the caller needs to know about one tracked frame.
+struct TrackResult {
+  bool tracked = false;
+  std::shared_ptr<data::KeyFrame> new_keyframe;  ///< to hand to local mapping
+  int inliers = 0;
+  bool new_segment = false;  ///< a new map segment was started at this frame
+};
+
+/// A frame's pose stored relative to its reference keyframe, so that later keyframe
+/// corrections (bundle adjustment) also move the frames tracked against them.
+struct FrameRecord {
+  double timestamp = 0;
+  std::shared_ptr<data::KeyFrame> reference;
+  Pose T_cr = Pose::Identity();
+};
+
+class Tracker {
+ public:
+  Tracker(data::Map& map, const camera::PinholeCamera& camera, const feature::ScalePyramid& pyramid,
+          const SlamConfig& config);
+
+  /// Tracks one frame. `mapper_idle` / `mapper_queue` describe local mapping's state (keyframe
+  /// decision). Takes the map lock for the duration of the call.
+  TrackResult track(data::Frame frame, bool mapper_idle, int mapper_queue);
+
+  TrackingState state() const { return state_; }
+  /// Tracked frames so far (untracked frames have no record).
+  const std::vector<FrameRecord>& records() const { return records_; }
+  /// The most recent frame (features, matches, pose) - for diagnostics.
+  const data::Frame* lastFrame() const { return last_frame_.get(); }
+
+ private:
+  bool initialize(data::Frame& frame, bool new_segment);
+  bool trackWithMotionModel(data::Frame& frame);
+  bool trackReferenceKeyFrame(data::Frame& frame);
+  bool relocalize(data::Frame& frame);
+  bool trackLocalMap(data::Frame& frame);
+  void updateLastFrame();
+  void updateLocalMap(data::Frame& frame);
+  int searchLocalPoints(data::Frame& frame);
+  bool needNewKeyFrame(const data::Frame& frame, bool mapper_idle, int mapper_queue) const;
+  std::shared_ptr<data::KeyFrame> createKeyFrame(data::Frame& frame);
+  /// Pose-only optimisation on the frame's current matches; marks outliers. Returns inliers.
+  int optimizeFramePose(data::Frame& frame);
+  /// Drops outlier matches; returns the matches that are map points (not temporary ones).
+  int discardOutliers(data::Frame& frame);
+  bool isInFrustum(data::MapPoint& mp, const data::Frame& frame, double min_view_cos) const;
+
+  data::Map& map_;
+  const camera::PinholeCamera& cam_;
+  const feature::ScalePyramid& pyr_;
+  const SlamConfig& cfg_;
+  match::OrbMatcher matcher_;
+  optimize::PinholeIntrinsics K_;
+
+  TrackingState state_ = TrackingState::NotInitialized;
+  std::unique_ptr<data::Frame> last_frame_;
+  std::shared_ptr<data::KeyFrame> reference_kf_;
+  std::shared_ptr<data::KeyFrame> last_kf_;
+  std::vector<std::shared_ptr<data::KeyFrame>> local_keyframes_;
+  std::vector<std::shared_ptr<data::MapPoint>> local_points_;
+  std::vector<std::shared_ptr<data::MapPoint>> temporal_points_;  ///< visual-odometry points
+  Pose velocity_ = Pose::Identity();  ///< T_cur,last of the last tracked step
+  bool has_velocity_ = false;
+  long last_reloc_frame_ = -1000;
+  int lost_frames_ = 0;
+  int matches_inliers_ = 0;
+  std::vector<FrameRecord> records_;
+};
+
+}  // namespace tkgslam::tracking
