@@ -9,14 +9,6 @@ namespace tkgslam::data {
 
 bool KeyFrameIdLess::operator()(const KeyFrame* a, const KeyFrame* b) const { return a->id < b->id; }
 
-int descriptorDistance(const cv::Mat& a, const cv::Mat& b) {
-  const auto* pa = a.ptr<uint64_t>();
-  const auto* pb = b.ptr<uint64_t>();
-  int d = 0;
-  for (int i = 0; i < 4; ++i) d += __builtin_popcountll(pa[i] ^ pb[i]);
-  return d;
-}
-
 MapPoint::MapPoint(long id_, const Vec3& pos, KeyFrame* ref, const cv::Mat& desc)
     : id(id_), pos_w(pos), descriptor(desc.clone()), reference(ref), first_keyframe_id(ref ? ref->id : 0) {}
 

@@ -1,6 +1,7 @@
 #pragma once
 // A 3-D landmark (world frame, metres) observed by keyframes. All members are read and written
 // with the Map's mutex held.
+#include <cstdint>
 #include <map>
 #include <memory>
 
@@ -57,6 +58,18 @@ class MapPoint {
 };
 
 /// Hamming distance of two 32-byte ORB descriptors.
-int descriptorDistance(const cv::Mat& a, const cv::Mat& b);
+inline int descriptorDistance(const uint8_t* a, const uint8_t* b) {
+  int d = 0;
+  for (int i = 0; i < 32; i += 8) {
+    uint64_t x, y;
+    __builtin_memcpy(&x, a + i, 8);
+    __builtin_memcpy(&y, b + i, 8);
+    d += __builtin_popcountll(x ^ y);
+  }
+  return d;
+}
+inline int descriptorDistance(const cv::Mat& a, const cv::Mat& b) {
+  return descriptorDistance(a.ptr<uint8_t>(), b.ptr<uint8_t>());
+}
 
 }  // namespace tkgslam::data

@@ -71,7 +71,7 @@ int OrbMatcher::searchByProjection(data::Frame& cur, const data::Frame& last, fl
       if (F.excluded[j]) continue;
       if (cur.map_points[j] && !cur.map_points[j]->observations.empty()) continue;
       if (F.u_right[j] > 0 && std::abs(ur - F.u_right[j]) > radius) continue;
-      const int d = descriptorDistance(mp->descriptor, F.descriptors.row(j));
+      const int d = descriptorDistance(mp->descriptor.ptr<uint8_t>(), F.descriptors.ptr<uint8_t>(j));
       if (d < best) {
         best = d;
         best_idx = j;
@@ -107,7 +107,7 @@ int OrbMatcher::searchByProjection(data::Frame& cur, const std::vector<std::shar
       if (F.excluded[j]) continue;
       if (cur.map_points[j] && !cur.map_points[j]->observations.empty()) continue;
       if (F.u_right[j] > 0 && std::abs(mp->track_x_right - F.u_right[j]) > r) continue;
-      const int d = descriptorDistance(mp->descriptor, F.descriptors.row(j));
+      const int d = descriptorDistance(mp->descriptor.ptr<uint8_t>(), F.descriptors.ptr<uint8_t>(j));
       if (d < best) {
         best2 = best;
         best_level2 = best_level;
@@ -137,11 +137,11 @@ int OrbMatcher::searchByDescriptors(const data::KeyFrame& kf, const data::Frame&
   for (size_t i = 0; i < kf.map_points.size(); ++i) {
     const auto& mp = kf.map_points[i];
     if (!mp || mp->bad) continue;
-    const cv::Mat d_kf = kf.features->descriptors.row(int(i));
+    const uint8_t* d_kf = kf.features->descriptors.ptr<uint8_t>(int(i));
     int best = 256, best2 = 256, best_j = -1;
     for (int j = 0; j < cur.size(); ++j) {
       if (F.excluded[j]) continue;
-      const int d = descriptorDistance(d_kf, F.descriptors.row(j));
+      const int d = descriptorDistance(d_kf, F.descriptors.ptr<uint8_t>(j));
       if (d < best) {
         best2 = best;
         best = d;
@@ -206,7 +206,7 @@ int OrbMatcher::fuse(data::Map& map, data::KeyFrame& kf, const std::vector<std::
       } else if ((ex * ex + ey * ey) * inv_s2 > 5.99) {
         continue;
       }
-      const int d = descriptorDistance(mp->descriptor, F.descriptors.row(j));
+      const int d = descriptorDistance(mp->descriptor.ptr<uint8_t>(), F.descriptors.ptr<uint8_t>(j));
       if (d < best) {
         best = d;
         best_idx = j;

@@ -1,0 +1,81 @@
+// Benchmarks of the per-frame hot path on real fr1_xyz images: ORB extraction (640x480, 1000
+// features, 8 levels), frame feature construction, and descriptor matching between two frames.
+// Run: build/bin/tkgslam_bench   (needs ../shared next to the repository)
+#include <filesystem>
+
+#include <benchmark/benchmark.h>
+
+#include "tkgslam/data/Frame.h"
+#include "tkgslam/data/FrameFeatures.h"
+#include "tkgslam/io/ConfigFile.h"
+#include "tkgslam/io/TumDataset.h"
+#include "tkgslam/match/OrbMatcher.h"
+
+namespace {
+
+using namespace tkgslam;
+
+struct Fixture {
+  SlamConfig config;
+  std::unique_ptr<camera::PinholeCamera> camera;
+  std::unique_ptr<feature::OrbExtractor> extractor;
+  io::RgbdImages a, b;
+  bool ok = false;
+
+  Fixture() {
+    const std::filesystem::path root(TKGSLAM_SOURCE_DIR);
+    const auto seq = root.parent_path() / "shared/datasets/rgbd_dataset_freiburg1_xyz";
+    if (!std::filesystem::is_directory(seq)) return;
+    config = io::loadConfig((root / "configs/tum_fr1.yaml").string());
+    camera = std::make_unique<camera::PinholeCamera>(config.camera);
+    extractor = std::make_unique<feature::OrbExtractor>(config.orb);
+    io::TumDataset ds(seq.string());
+    a = ds.load(100);
+    b = ds.load(101);
+    ok = true;
+  }
+};
+
+Fixture& fixture() {
+  static Fixture f;
+  return f;
+}
+
+void BM_OrbExtraction(benchmark::State& state) {
+  auto& f = fixture();
+  if (!f.ok) return state.SkipWithError("../shared/datasets/rgbd_dataset_freiburg1_xyz not found");
+  for (auto _ : state) benchmark::DoNotOptimize(f.extractor->extract(f.a.gray));
+}
+BENCHMARK(BM_OrbExtraction)->Unit(benchmark::kMillisecond);
+
+void BM_FrameFeatures(benchmark::State& state) {
+  auto& f = fixture();
+  if (!f.ok) return state.SkipWithError("../shared/datasets/rgbd_dataset_freiburg1_xyz not found");
+  const auto orb = f.extractor->extract(f.a.gray);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(data::makeFrameFeatures(orb, f.a.bgr, f.a.depth_m, *f.camera, f.config.depth));
+  }
+}
+BENCHMARK(BM_FrameFeatures)->Unit(benchmark::kMillisecond);
+
+void BM_DescriptorMatching(benchmark::State& state) {
+  auto& f = fixture();
+  if (!f.ok) return state.SkipWithError("../shared/datasets/rgbd_dataset_freiburg1_xyz not found");
+  auto fa = data::makeFrameFeatures(f.extractor->extract(f.a.gray), f.a.bgr, f.a.depth_m, *f.camera, f.config.depth);
+  auto fb = data::makeFrameFeatures(f.extractor->extract(f.b.gray), f.b.bgr, f.b.depth_m, *f.camera, f.config.depth);
+  data::KeyFrame kf(0, 0, 0.0, fa, Pose::Identity());
+  for (int i = 0; i < fa->size(); ++i) {
+    kf.map_points[i] = std::make_shared<data::MapPoint>(i, Vec3::Zero(), &kf, fa->descriptors.row(i));
+  }
+  data::Frame frame(1, 0.0, fb);
+  match::OrbMatcher matcher(*f.camera, f.extractor->pyramid(), f.config.depth.baseline_fx);
+  std::vector<std::shared_ptr<data::MapPoint>> matches;
+  int n = 0;
+  for (auto _ : state) n = matcher.searchByDescriptors(kf, frame, matches);
+  state.counters["matches"] = n;
+}
+BENCHMARK(BM_DescriptorMatching)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,55 @@
+#include <gtest/gtest.h>
+
+#include "tkgslam/common/Pose.h"
+#include "tkgslam/io/TrajectoryFile.h"
+
+namespace tkgslam {
+namespace {
+
+TEST(Pose, QuaternionConventionIsXyzwAndHamilton) {
+  // 90 degrees about z: (x, y, z, w) = (0, 0, sin 45, cos 45) maps the x axis onto the y axis.
+  const double s = std::sqrt(0.5);
+  const Pose T = poseFromTranslationQuaternion(Vec3(1, 2, 3), 0, 0, s, s);
+  EXPECT_TRUE((T.linear() * Vec3::UnitX()).isApprox(Vec3::UnitY(), 1e-12));
+  EXPECT_TRUE((T * Vec3::Zero()).isApprox(Vec3(1, 2, 3)));
+  // Unnormalised input is normalised.
+  const Pose T2 = poseFromTranslationQuaternion(Vec3::Zero(), 0, 0, 2 * s, 2 * s);
+  EXPECT_TRUE(T2.linear().isApprox(T.linear(), 1e-12));
+}
+
+TEST(Pose, CompositionFollowsTheFrameNamingConvention) {
+  // T_ab * T_bc = T_ac: a point in c goes to b then to a.
+  Pose T_ab = Pose::Identity(), T_bc = Pose::Identity();
+  T_ab.linear() = Eigen::AngleAxisd(0.4, Vec3::UnitY()).toRotationMatrix();
+  T_ab.translation() = Vec3(0.5, 0, 0);
+  T_bc.linear() = Eigen::AngleAxisd(-1.1, Vec3::UnitX()).toRotationMatrix();
+  T_bc.translation() = Vec3(0, 0.2, 1);
+  const Vec3 p_c(0.3, -0.7, 2.0);
+  EXPECT_TRUE(((T_ab * T_bc) * p_c).isApprox(T_ab * (T_bc * p_c), 1e-12));
+  // The camera centre is the translation of T_wc = T_cw^-1.
+  const Pose T_cw = T_ab;
+  EXPECT_TRUE((T_cw * T_cw.inverse().translation()).isZero(1e-12));
+}
+
+TEST(Pose, IncrementIsALeftPerturbationAndStaysOrthonormal) {
+  Pose T = Pose::Identity();
+  T.translation() = Vec3(1, 0, 0);
+  Eigen::Matrix<double, 6, 1> d;
+  d << 0, 0, M_PI / 2, 0, 0, 0.5;
+  const Pose U = applyIncrement(T, d);
+  EXPECT_TRUE(U.translation().isApprox(Vec3(0, 1, 0.5), 1e-12));
+  Pose drift = T;
+  drift.linear() *= 1.001;  // not a rotation any more
+  EXPECT_NEAR(orthonormalized(drift).linear().determinant(), 1.0, 1e-12);
+  EXPECT_NEAR(rotationAngle(U.linear()), M_PI / 2, 1e-12);
+}
+
+TEST(Pose, TrajectoryEntryPoseIsCameraToWorld) {
+  io::TrajectoryEntry e;
+  e.t = Vec3(1, 2, 3);
+  e.q_xyzw = Eigen::Vector4d(0, 0, 0, 1);
+  EXPECT_TRUE((e.pose() * Vec3::Zero()).isApprox(Vec3(1, 2, 3)));  // camera origin in world
+}
+
+}  // namespace
+}  // namespace tkgslam

@@ -1,0 +1,86 @@
+#include <opencv2/imgcodecs.hpp>
+
+#include <gtest/gtest.h>
+
+#include "TestSupport.h"
+#include "tkgslam/common/Error.h"
+#include "tkgslam/data/MapPoint.h"
+#include "tkgslam/feature/OrbExtractor.h"
+
+namespace tkgslam {
+namespace {
+
+cv::Mat firstImage() {
+  return cv::imread((test::fr1xyz() / "rgb" / "1305031102.175304.jpg").string(), cv::IMREAD_GRAYSCALE);
+}
+
+TEST(OrbExtractor, ExtractsAboutTheRequestedNumberSpreadOverImageAndLevels) {
+  TKGSLAM_REQUIRE_SHARED();
+  const cv::Mat img = firstImage();
+  ASSERT_FALSE(img.empty());
+  feature::OrbExtractor ex(feature::OrbParams{});
+  const auto f = ex.extract(img);
+  EXPECT_GE(f.keypoints.size(), 900u);
+  EXPECT_LE(f.keypoints.size(), 1100u);
+  ASSERT_EQ(f.descriptors.rows, int(f.keypoints.size()));
+  EXPECT_EQ(f.descriptors.cols, 32);
+  // Every level contributes, finer levels more.
+  std::vector<int> per_level(8, 0);
+  for (const auto& kp : f.keypoints) per_level[kp.octave]++;
+  for (int l = 0; l < 8; ++l) EXPECT_GT(per_level[l], 20) << "level " << l;
+  EXPECT_GT(per_level[0], per_level[7]);
+  // The quadtree spreads them: each quarter of the image holds at least 10 %.
+  int quarter[4] = {0, 0, 0, 0};
+  for (const auto& kp : f.keypoints) quarter[(kp.pt.x > 320) + 2 * (kp.pt.y > 240)]++;
+  for (int q : quarter) EXPECT_GT(q, int(f.keypoints.size()) / 10);
+}
+
+TEST(OrbExtractor, DescriptorsAreRotationInvariantAndDeterministic) {
+  TKGSLAM_REQUIRE_SHARED();
+  const cv::Mat img = firstImage();
+  feature::OrbExtractor ex(feature::OrbParams{});
+  const auto a = ex.extract(img);
+  const auto b = ex.extract(img);
+  ASSERT_EQ(a.keypoints.size(), b.keypoints.size());
+  EXPECT_EQ(cv::norm(a.descriptors, b.descriptors, cv::NORM_HAMMING), 0.0);
+  // Rotate the image by 90 degrees: most keypoints must find their counterpart by descriptor.
+  cv::Mat rotated;
+  cv::rotate(img, rotated, cv::ROTATE_90_CLOCKWISE);
+  const auto r = ex.extract(rotated);
+  int good = 0, tested = 0;
+  for (size_t i = 0; i < a.keypoints.size(); i += 5) {
+    ++tested;
+    int best = 256;
+    size_t best_j = 0;
+    for (size_t j = 0; j < r.keypoints.size(); ++j) {
+      const int d = data::descriptorDistance(a.descriptors.row(int(i)), r.descriptors.row(int(j)));
+      if (d < best) best = d, best_j = j;
+    }
+    // (x, y) -> (H - 1 - y, x) under a clockwise rotation.
+    const cv::Point2f expect(float(img.rows - 1) - a.keypoints[i].pt.y, a.keypoints[i].pt.x);
+    if (best < 50 && cv::norm(r.keypoints[best_j].pt - expect) < 3.0 * (1 << (a.keypoints[i].octave / 2))) ++good;
+  }
+  EXPECT_GT(good, tested * 0.4) << good << " of " << tested;
+}
+
+TEST(OrbExtractor, RejectsBadParametersAndImages) {
+  feature::OrbParams p;
+  p.scale_factor = 0.9;
+  EXPECT_THROW(feature::OrbExtractor{p}, InputError);
+  feature::OrbExtractor ex(feature::OrbParams{});
+  EXPECT_THROW(ex.extract(cv::Mat(10, 10, CV_8UC3)), InputError);
+  EXPECT_EQ(ex.extract(cv::Mat(480, 640, CV_8UC1, cv::Scalar(0))).keypoints.size(), 0u);  // blank image
+}
+
+TEST(Quadtree, KeepsTheStrongestPerCellAndHitsTheTarget) {
+  std::vector<cv::KeyPoint> kps;
+  for (int y = 0; y < 100; y += 2) {
+    for (int x = 0; x < 200; x += 2) kps.emplace_back(cv::Point2f(float(x), float(y)), 7.f, -1.f, float((x * 7 + y * 13) % 50));
+  }
+  const auto out = feature::distributeQuadtree(kps, 0, 200, 0, 100, 64);
+  EXPECT_GE(out.size(), 64u);
+  EXPECT_LE(out.size(), 64u + 3 * 16);
+}
+
+}  // namespace
+}  // namespace tkgslam

@@ -1,0 +1,60 @@
+// End-to-end accuracy on the real TUM fr1_xyz sequence (deterministic mode), run twice: the
+// trajectory must be identical bit for bit and accurate.
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "TestSupport.h"
+#include "tkgslam/eval/Ate.h"
+#include "tkgslam/io/TrajectoryFile.h"
+
+namespace tkgslam {
+namespace {
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+TEST(SlamFr1Xyz, AccurateCompleteAndDeterministic) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  const std::string common = "run --deterministic -q -c " + (test::sourceDir() / "configs/tum_fr1.yaml").string() +
+                             " -d " + test::fr1xyz().string() + " -o ";
+  std::string out;
+  ASSERT_EQ(test::runCli(common + (tmp / "a").string(), &out), 0) << out;
+  ASSERT_EQ(test::runCli(common + (tmp / "b").string(), &out), 0) << out;
+
+  const auto traj = slurp(tmp / "a" / "trajectory.txt");
+  EXPECT_EQ(traj, slurp(tmp / "b" / "trajectory.txt")) << "deterministic mode gave different trajectories";
+
+  const auto est = io::readTumTrajectory((tmp / "a" / "trajectory.txt").string());
+  const auto gt = io::readTumTrajectory((test::fr1xyz() / "groundtruth.txt").string());
+  const auto ate = eval::computeAte(gt, est);
+  const double tracked = double(est.size()) / 798.0;  // rgb.txt lists 798 frames
+  RecordProperty("ate_rmse_m", std::to_string(ate.stats.rmse));
+  EXPECT_LE(ate.stats.rmse, 0.015);
+  EXPECT_GE(tracked, 0.98);
+  // The other outputs exist and are non-trivial.
+  EXPECT_GT(io::readTumTrajectory((tmp / "a" / "keyframes.txt").string()).size(), 10u);
+  EXPECT_NE(slurp(tmp / "a" / "map.ply").find("element vertex"), std::string::npos);
+  EXPECT_NE(slurp(tmp / "a" / "timing.json").find("\"orb_and_tracking\""), std::string::npos);
+  EXPECT_NE(out.find("ATE RMSE"), std::string::npos) << out;
+}
+
+TEST(SlamRunCli, BadInputIsAClearErrorNotACrash) {
+  std::string out;
+  EXPECT_EQ(test::runCli("run -c /nonexistent.yaml -d /tmp -o /tmp/x", &out), 2);
+  EXPECT_NE(out.find("cannot open config file"), std::string::npos) << out;
+  EXPECT_EQ(test::runCli("run -c " + (test::sourceDir() / "configs/tum_fr1.yaml").string() +
+                             " -d /nonexistent/seq -o /tmp/x",
+                         &out),
+            2);
+  EXPECT_NE(out.find("does not exist"), std::string::npos) << out;
+}
+
+}  // namespace
+}  // namespace tkgslam
