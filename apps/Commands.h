@@ -10,5 +10,6 @@ using Action = std::function<int()>;
 
 Action addEvalCommand(CLI::App& app);
 Action addRunCommand(CLI::App& app);
+Action addDetectCommand(CLI::App& app);
 
 }  // namespace tkgslam::app

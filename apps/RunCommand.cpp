@@ -19,7 +19,7 @@ namespace tkgslam::app {
 namespace {
 
 struct RunOptions {
-  std::string config, dataset, out;
+  std::string config, dataset, out, mode, debug_dynamic;
   bool deterministic = false;
   bool quiet = false;
   int max_frames = 0;
@@ -32,9 +32,33 @@ void writeText(const std::filesystem::path& p, const std::string& text) {
   out << text;
 }
 
+/// One JSON object per frame: boxes (detected / predicted), T, and the dropped keypoints.
+void writeDynamicDebug(const std::string& path, const std::vector<DynamicFrameInfo>& info) {
+  std::ofstream out(path);
+  if (!out) throw InputError(fmt::format("cannot write '{}'", path));
+  for (const auto& f : info) {
+    out << fmt::format("{{\"timestamp\": {:.6f}, \"T\": {:.4f}, \"geometry\": {}, \"keypoints\": {}, \"dropped\": {}, "
+                       "\"readmitted\": {}, \"boxes\": [",
+                       f.timestamp, f.box_ratio, f.geometry ? "true" : "false", f.keypoints, f.dropped, f.readmitted);
+    for (size_t i = 0; i < f.boxes.size(); ++i) {
+      const auto& b = f.boxes[i];
+      out << fmt::format("{}{{\"x\": {:.1f}, \"y\": {:.1f}, \"w\": {:.1f}, \"h\": {:.1f}, \"class\": {}, "
+                         "\"score\": {:.3f}, \"predicted\": {}, \"track\": {}}}",
+                         i ? ", " : "", b.box.x, b.box.y, b.box.width, b.box.height, b.class_id, b.score,
+                         b.predicted ? "true" : "false", b.track_id);
+    }
+    out << "], \"dropped_points\": [";
+    for (size_t i = 0; i < f.dropped_points.size(); ++i) {
+      out << fmt::format("{}[{:.0f}, {:.0f}]", i ? ", " : "", f.dropped_points[i].x, f.dropped_points[i].y);
+    }
+    out << "]}\n";
+  }
+}
+
 int runSlam(const RunOptions& o) {
   SlamConfig config = io::loadConfig(o.config);
   if (o.deterministic) config.deterministic = true;
+  if (!o.mode.empty()) config.dynamic.mode = parseDynamicMode(o.mode);
   io::TumDatasetOptions dopt;
   dopt.depth_factor = config.depth.factor;
   dopt.expected_width = config.camera.width;
@@ -46,8 +70,8 @@ int runSlam(const RunOptions& o) {
 
   SlamSystem slam(config);
   const int n = o.max_frames > 0 ? std::min(o.max_frames, dataset.size()) : dataset.size();
-  std::printf("tkgslam run: %d frames from %s (%s mode)\n", n, o.dataset.c_str(),
-              config.deterministic ? "deterministic" : "threaded");
+  std::printf("tkgslam run: %d frames from %s (%s, dynamic mode %s)\n", n, o.dataset.c_str(),
+              config.deterministic ? "deterministic" : "threaded", toString(config.dynamic.mode));
   int skipped = 0;
   for (int i = 0; i < n; ++i) {
     io::RgbdImages images;
@@ -73,6 +97,21 @@ int runSlam(const RunOptions& o) {
   io::writeTumTrajectory((out / "keyframes.txt").string(), slam.keyFrameTrajectory());
   io::writePly((out / "map.ply").string(), slam.mapPoints());
   writeText(out / "timing.json", slam.timing().toJson() + "\n");
+  if (!o.debug_dynamic.empty()) writeDynamicDebug(o.debug_dynamic, slam.dynamicInfo());
+  if (config.dynamic.mode != DynamicMode::Orb) {
+    const auto& info = slam.dynamicInfo();
+    int geometry = 0, predicted = 0;
+    double dropped = 0;
+    for (const auto& f : info) {
+      geometry += f.geometry;
+      predicted += f.predicted;
+      dropped += f.dropped;
+    }
+    std::printf("dynamic: %zu frames, %d Kalman-filled boxes, geometry check on %d frames, %.1f keypoints "
+                "dropped per frame; detector %.1f ms/run\n",
+                info.size(), predicted, geometry, info.empty() ? 0.0 : dropped / info.size(),
+                slam.timing().mean("detector"));
+  }
 
   const double ratio = n > 0 ? double(traj.size()) / n : 0.0;
   std::printf("frames %d, tracked %zu (%.2f %%), skipped %d, keyframes %zu, map points %zu\n", n, traj.size(),
@@ -107,6 +146,9 @@ Action addRunCommand(CLI::App& app) {
   cmd->add_option("--max-frames", o->max_frames, "Process only the first N frames")->check(CLI::NonNegativeNumber);
   cmd->add_option("--loops", o->loops, "Play the sequence N times (soak test)")->check(CLI::PositiveNumber);
   cmd->add_flag("-q,--quiet", o->quiet, "No progress lines");
+  cmd->add_option("--mode", o->mode, "Dynamic handling: orb, T, TK, TG or TKG (overrides dynamic.mode)");
+  cmd->add_option("--debug-dynamic", o->debug_dynamic,
+                  "Write per-frame boxes, T and dropped keypoints as JSON lines to this file");
   return [o] { return runSlam(*o); };
 }
 

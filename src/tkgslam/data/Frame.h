@@ -11,7 +11,7 @@
 namespace tkgslam::data {
 
 struct Frame {
-  Frame(long id_, double timestamp_, std::shared_ptr<const FrameFeatures> f)
+  Frame(long id_, double timestamp_, std::shared_ptr<FrameFeatures> f)
       : id(id_), timestamp(timestamp_), features(std::move(f)) {
     map_points.resize(features->size());
     outlier.assign(features->size(), 0);
@@ -19,7 +19,7 @@ struct Frame {
 
   long id;
   double timestamp;  ///< seconds
-  std::shared_ptr<const FrameFeatures> features;
+  std::shared_ptr<FrameFeatures> features;  ///< mutable until the frame becomes a keyframe (exclusions)
   std::vector<std::shared_ptr<MapPoint>> map_points;  ///< per keypoint, may be null
   std::vector<char> outlier;                          ///< per keypoint, set by pose optimisation
   Pose T_cw = Pose::Identity();                       ///< world -> camera

@@ -9,7 +9,7 @@
 
 #include "tkgslam/camera/PinholeCamera.h"
 #include "tkgslam/feature/OrbExtractor.h"
-#include "tkgslam/system/SlamConfig.h"
+#include "tkgslam/camera/DepthParams.h"
 
 namespace tkgslam::data {
 

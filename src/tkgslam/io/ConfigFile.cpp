@@ -1,5 +1,6 @@
 #include "tkgslam/io/ConfigFile.h"
 
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -72,7 +73,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     throw InputError(fmt::format("{}: not valid YAML (line {}): {}", source, e.mark.line + 1, e.msg));
   }
   if (!root.IsMap()) throw InputError(fmt::format("{}: expected a YAML mapping at top level", source));
-  static const std::set<std::string> kSections = {"camera", "depth", "orb", "tracking", "mapping", "system"};
+  static const std::set<std::string> kSections = {"camera", "depth", "orb", "tracking", "mapping", "dynamic", "system"};
   for (const auto& kv : root) {
     const auto key = kv.first.as<std::string>();
     if (!kSections.count(key)) throw InputError(fmt::format("{}: unknown section '{}'", source, key));
@@ -151,6 +152,54 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     require(c.mapping.covisible_keyframes >= 1, source, "mapping.covisible_keyframes must be >= 1");
     require(c.mapping.keyframe_redundancy > 0 && c.mapping.keyframe_redundancy <= 1, source,
             "mapping.keyframe_redundancy must be in (0, 1]");
+  }
+  {
+    Section s(root, "dynamic", source, false);
+    std::string mode = toString(c.dynamic.mode);
+    s.get("mode", mode);
+    try {
+      c.dynamic.mode = parseDynamicMode(mode);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{}: dynamic.mode: {}", source, e.what()));
+    }
+    auto& d = c.dynamic.detector;
+    s.get("model", d.model);
+    s.get("input_size", d.input_size);
+    s.get("confidence", d.confidence);
+    s.get("person_confidence", d.person_confidence);
+    s.get("nms", d.nms);
+    s.get("classes", d.classes);
+    s.get("detect_every", c.dynamic.detect_every);
+    auto& t = c.dynamic.tracker;
+    s.get("kalman_q", t.kalman.q);
+    s.get("kalman_r", t.kalman.r);
+    s.get("iou_gate", t.iou_gate);
+    s.get("max_age", t.max_age);
+    auto& g = c.dynamic.geometry;
+    s.get("ratio_threshold", g.ratio_threshold);
+    s.get("reference_keyframes", g.reference_keyframes);
+    s.get("reference_max_depth", g.reference_max_depth);
+    s.get("current_max_depth", g.current_max_depth);
+    s.get("max_parallax_deg", g.max_parallax_deg);
+    s.get("occlusion_threshold", g.occlusion_threshold);
+    s.get("patch_radius", g.patch_radius);
+    s.get("max_patch_std", g.max_patch_std);
+    s.get("region_depth_step", g.region_depth_step);
+    s.checkNoUnknownKeys();
+    // A relative model path is relative to the config file's folder.
+    if (!d.model.empty() && std::filesystem::path(d.model).is_relative()) {
+      d.model = (std::filesystem::path(source).parent_path() / d.model).lexically_normal().string();
+    }
+    require(c.dynamic.detect_every >= 1, source, "dynamic.detect_every must be >= 1");
+    require(t.kalman.q > 0 && t.kalman.r > 0, source, "dynamic.kalman_q and kalman_r must be > 0");
+    require(t.iou_gate >= 0 && t.iou_gate < 1, source, "dynamic.iou_gate must be in [0, 1)");
+    require(t.max_age >= 0, source, "dynamic.max_age must be >= 0");
+    require(g.ratio_threshold >= 0 && g.ratio_threshold <= 1, source, "dynamic.ratio_threshold must be in [0, 1]");
+    require(g.reference_keyframes >= 1, source, "dynamic.reference_keyframes must be >= 1");
+    require(g.occlusion_threshold > 0, source, "dynamic.occlusion_threshold must be > 0");
+    require(g.patch_radius >= 0 && g.patch_radius <= 20, source, "dynamic.patch_radius must be in [0, 20]");
+    require(g.region_depth_step > 0, source, "dynamic.region_depth_step must be > 0");
+    require(g.max_parallax_deg > 0 && g.max_parallax_deg <= 180, source, "dynamic.max_parallax_deg must be in (0, 180]");
   }
   {
     Section s(root, "system", source, false);

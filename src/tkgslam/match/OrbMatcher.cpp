@@ -196,6 +196,7 @@ int OrbMatcher::fuse(data::Map& map, data::KeyFrame& kf, const std::vector<std::
     const double ur = uv.x() - bf_ / pc.z();
     int best = 256, best_idx = -1;
     for (int j : F.featuresInArea(float(uv.x()), float(uv.y()), radius)) {
+      if (F.excluded[j]) continue;
       const auto& kp = F.ideal[j];
       if (kp.octave < level - 1 || kp.octave > level) continue;
       const double ex = uv.x() - kp.pt.x, ey = uv.y() - kp.pt.y;

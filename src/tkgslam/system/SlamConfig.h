@@ -3,18 +3,15 @@
 #include <cstdint>
 #include <string>
 
+#include "tkgslam/camera/DepthParams.h"
 #include "tkgslam/camera/PinholeCamera.h"
+#include "tkgslam/dynamic/BoxTracker.h"
+#include "tkgslam/dynamic/DynamicFilter.h"
+#include "tkgslam/dynamic/YoloDetector.h"
 #include "tkgslam/feature/OrbExtractor.h"
 
 namespace tkgslam {
 
-/// RGB-D specifics. Depth images are registered to the colour image.
-struct DepthParams {
-  double factor = 5000.0;          ///< raw depth units per metre
-  double baseline_fx = 40.0;       ///< virtual stereo baseline times fx (m*px): u_right = u - bf/z
-  double close_threshold = 3.09;   ///< m; depth below this is trusted for new map points
-  double max_depth = 8.0;          ///< m; depth beyond this is ignored
-};
 
 struct TrackingParams {
   int min_init_features = 500;     ///< keypoints with depth needed to start a map
@@ -30,6 +27,24 @@ struct MappingParams {
   bool cull_keyframes = true;
 };
 
+/// Dynamic-object handling, the paper's ablations (Table 3):
+/// orb = none (ORB-SLAM2 baseline); T = drop every keypoint in a box; TK = T + Kalman filling of
+/// missed detections; TG = T + multi-view geometry when boxes cover >= tau; TKG = all.
+enum class DynamicMode { Orb, T, TK, TG, TKG };
+const char* toString(DynamicMode mode);
+/// Parses "orb", "T", "TK", "TG", "TKG" (case-insensitive); throws InputError otherwise.
+DynamicMode parseDynamicMode(const std::string& text);
+
+struct DynamicParams {
+  DynamicMode mode = DynamicMode::Orb;
+  dynamic::DetectorParams detector;
+  dynamic::BoxTrackerParams tracker;
+  dynamic::GeometryParams geometry;
+  int detect_every = 1;  ///< run the detector on every N-th frame; the Kalman tracker predicts between
+  bool usesKalman() const { return mode == DynamicMode::TK || mode == DynamicMode::TKG; }
+  bool usesGeometry() const { return mode == DynamicMode::TG || mode == DynamicMode::TKG; }
+};
+
 struct SlamConfig {
   std::string source;  ///< file the config came from
   camera::CameraParams camera;
@@ -37,6 +52,7 @@ struct SlamConfig {
   feature::OrbParams orb;
   TrackingParams tracking;
   MappingParams mapping;
+  DynamicParams dynamic;
   bool deterministic = false;
   std::uint64_t seed = 42;
 };

@@ -1,7 +1,10 @@
 #include "tkgslam/system/SlamSystem.h"
 
 #include <chrono>
+#include <future>
 #include <mutex>
+
+#include "tkgslam/dynamic/DynamicFilter.h"
 
 namespace tkgslam {
 
@@ -12,7 +15,10 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 SlamSystem::SlamSystem(const SlamConfig& config)
-    : config_(config), camera_(config.camera), extractor_(config.orb) {
+    : config_(config), camera_(config.camera), extractor_(config.orb), box_tracker_(config.dynamic.tracker) {
+  if (config_.dynamic.mode != DynamicMode::Orb) {
+    detector_ = std::make_unique<dynamic::YoloDetector>(config_.dynamic.detector);
+  }
   tracker_ = std::make_unique<tracking::Tracker>(map_, camera_, extractor_.pyramid(), config_);
   mapper_ = std::make_unique<mapping::LocalMapper>(map_, camera_, extractor_.pyramid(), config_);
   mapping_thread_ = std::make_unique<mapping::LocalMappingThread>(*mapper_, config_.deterministic);
@@ -20,16 +26,89 @@ SlamSystem::SlamSystem(const SlamConfig& config)
 
 SlamSystem::~SlamSystem() { mapping_thread_->stop(); }
 
+std::vector<dynamic::Detection> SlamSystem::boxesFor(const std::vector<dynamic::Detection>& detections,
+                                                     bool detector_ran, cv::Size image) {
+  if (!config_.dynamic.usesKalman()) {
+    if (detector_ran) last_detections_ = detections;
+    return last_detections_;  // frames between detector runs reuse the last boxes
+  }
+  return detector_ran ? box_tracker_.update(detections, image) : box_tracker_.predictAll(image);
+}
+
 tracking::TrackResult SlamSystem::processFrame(const io::RgbdImages& images) {
   const auto t0 = std::chrono::steady_clock::now();
+  // The detector works on its own thread while this one extracts ORB features.
+  const bool run_detector = detector_ && frames_ % config_.dynamic.detect_every == 0;
+  std::future<std::pair<std::vector<dynamic::Detection>, double>> detection;
+  if (run_detector) {
+    detection = std::async(std::launch::async, [this, &images] {
+      const auto td = std::chrono::steady_clock::now();
+      auto dets = detector_->detect(images.bgr);
+      return std::make_pair(std::move(dets), msSince(td));
+    });
+  }
   auto orb = extractor_.extract(images.gray);
   auto features = data::makeFrameFeatures(std::move(orb), images.bgr, images.depth_m, camera_, config_.depth);
   const double t_extract = msSince(t0);
 
+  tracking::RefineKeypoints refine;
+  dynamic::BoxMask box_mask;
+  DynamicFrameInfo info;
+  if (detector_) {
+    const auto tw = std::chrono::steady_clock::now();
+    std::vector<dynamic::Detection> detections;
+    if (run_detector) {
+      auto [dets, ms] = detection.get();
+      detections = std::move(dets);
+      timing_.add("detector", ms);
+    }
+    timing_.add("detector_wait", msSince(tw));
+    const auto tb = std::chrono::steady_clock::now();
+    info.boxes = boxesFor(detections, run_detector, images.bgr.size());
+    if (config_.dynamic.usesKalman()) timing_.add("box_tracker", msSince(tb));
+    box_mask = dynamic::rasterizeBoxes(info.boxes, images.bgr.size());
+    info.box_ratio = box_mask.ratio;
+    for (const auto& b : info.boxes) (b.predicted ? info.predicted : info.detected)++;
+    dynamic::excludeKeypointsInMask(*features, box_mask.mask);
+    if (config_.dynamic.usesGeometry() && box_mask.ratio >= config_.dynamic.geometry.ratio_threshold) {
+      refine = [this, &images, &box_mask, &info](data::Frame& frame,
+                                                 const std::vector<std::shared_ptr<data::KeyFrame>>& local) {
+        const auto tg = std::chrono::steady_clock::now();
+        std::vector<Pose> poses;
+        std::vector<const data::KeyFrame*> kfs;
+        for (const auto& kf : local) {
+          if (kf->bad) continue;
+          poses.push_back(kf->T_cw());
+          kfs.push_back(kf.get());
+        }
+        std::vector<dynamic::ReferenceView> refs;
+        for (int i : dynamic::selectReferenceViews(frame.T_cw, poses, config_.dynamic.geometry.reference_keyframes)) {
+          refs.push_back({kfs[i]->T_cw(), kfs[i]->features});
+        }
+        const auto g = dynamic::checkMultiViewGeometry(frame.T_cw, images.depth_m, box_mask.mask, refs, camera_,
+                                                       config_.dynamic.geometry);
+        info.readmitted = dynamic::readmitStaticKeypoints(*frame.features, box_mask.mask, g.dynamic_region);
+        info.geometry = true;
+        timing_.add("geometry", msSince(tg));
+        return info.readmitted;
+      };
+    }
+  }
+
   const auto t1 = std::chrono::steady_clock::now();
   data::Frame frame(frames_, images.timestamp, features);
-  auto result = tracker_->track(std::move(frame), mapping_thread_->idle(), mapping_thread_->queued());
+  auto result = tracker_->track(std::move(frame), mapping_thread_->idle(), mapping_thread_->queued(), refine);
   const double t_track = msSince(t1);
+  if (detector_) {
+    info.timestamp = images.timestamp;
+    info.keypoints = features->size();
+    for (int i = 0; i < features->size(); ++i) {
+      if (!features->excluded[i]) continue;
+      ++info.dropped;
+      info.dropped_points.push_back(features->raw[i].pt);
+    }
+    dynamic_info_.push_back(std::move(info));
+  }
 
   const auto t2 = std::chrono::steady_clock::now();
   if (result.new_keyframe) mapping_thread_->insert(result.new_keyframe);

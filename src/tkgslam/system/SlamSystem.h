@@ -7,6 +7,8 @@
 
 #include "tkgslam/camera/PinholeCamera.h"
 #include "tkgslam/data/Map.h"
+#include "tkgslam/dynamic/BoxTracker.h"
+#include "tkgslam/dynamic/YoloDetector.h"
 #include "tkgslam/feature/OrbExtractor.h"
 #include "tkgslam/io/PlyWriter.h"
 #include "tkgslam/io/TumDataset.h"
@@ -17,6 +19,20 @@
 #include "tkgslam/tracking/Tracker.h"
 
 namespace tkgslam {
+
+/// What the dynamic filter did on one frame (for reports and debugging).
+struct DynamicFrameInfo {
+  double timestamp = 0;
+  double box_ratio = 0;          ///< T = area(union of boxes) / image area
+  int detected = 0;              ///< boxes from the detector
+  int predicted = 0;             ///< boxes filled in by the Kalman tracker
+  int keypoints = 0;
+  int dropped = 0;               ///< keypoints excluded in the end
+  int readmitted = 0;            ///< in-box keypoints the geometry check found static
+  bool geometry = false;         ///< the multi-view check ran
+  std::vector<dynamic::Detection> boxes;
+  std::vector<cv::Point2f> dropped_points;  ///< raw pixels of the excluded keypoints
+};
 
 class SlamSystem {
  public:
@@ -40,6 +56,7 @@ class SlamSystem {
   int framesTracked() const { return int(tracker_->records().size()); }
   tracking::TrackingState state() const { return tracker_->state(); }
   const TimingStats& timing() const { return timing_; }
+  const std::vector<DynamicFrameInfo>& dynamicInfo() const { return dynamic_info_; }
   const SlamConfig& config() const { return config_; }
 
  private:
@@ -50,8 +67,16 @@ class SlamSystem {
   std::unique_ptr<tracking::Tracker> tracker_;
   std::unique_ptr<mapping::LocalMapper> mapper_;
   std::unique_ptr<mapping::LocalMappingThread> mapping_thread_;
+  std::unique_ptr<dynamic::YoloDetector> detector_;
+  dynamic::BoxTracker box_tracker_;
+  std::vector<dynamic::Detection> last_detections_;
+  std::vector<DynamicFrameInfo> dynamic_info_;
   TimingStats timing_;
   int frames_ = 0;
+
+  /// Boxes for this frame from the detector (run on its own thread) and the box tracker.
+  std::vector<dynamic::Detection> boxesFor(const std::vector<dynamic::Detection>& detections, bool detector_ran,
+                                           cv::Size image);
 };
 
 }  // namespace tkgslam

@@ -20,7 +20,7 @@ Tracker::Tracker(data::Map& map, const camera::PinholeCamera& camera, const feat
   K_ = {camera.fx(), camera.fy(), camera.cx(), camera.cy(), config.depth.baseline_fx};
 }
 
-TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue) {
+TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, const RefineKeypoints& refine) {
   std::lock_guard<std::mutex> lock(map_.mutex());
   TrackResult result;
   if (state_ == TrackingState::NotInitialized) {
@@ -47,6 +47,10 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue) {
     ok = relocalize(frame);
   }
   if (ok) ok = trackLocalMap(frame);
+  if (ok && refine && refine(frame, local_keyframes_) > 0) {
+    // Keypoints found static by the geometry check can now be matched too.
+    ok = trackLocalMap(frame);
+  }
 
   if (ok) {
     state_ = TrackingState::Ok;

@@ -3,6 +3,7 @@
 // enough depth, constant-velocity motion model with projection matching, fallback to the
 // reference keyframe, local-map tracking, keyframe decision, relocalisation when lost and a new
 // map segment when relocalisation keeps failing. Never aborts the run.
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -34,6 +35,11 @@ struct FrameRecord {
   Pose T_cr = Pose::Identity();
 };
 
+/// Called once the frame has a pose from the keypoints outside the boxes; may re-admit keypoints
+/// (frame.features->excluded). Receives the local keyframes; returns how many were re-admitted.
+using RefineKeypoints =
+    std::function<int(data::Frame& frame, const std::vector<std::shared_ptr<data::KeyFrame>>& local_keyframes)>;
+
 class Tracker {
  public:
   Tracker(data::Map& map, const camera::PinholeCamera& camera, const feature::ScalePyramid& pyramid,
@@ -41,7 +47,7 @@ class Tracker {
 
   /// Tracks one frame. `mapper_idle` / `mapper_queue` describe local mapping's state (keyframe
   /// decision). Takes the map lock for the duration of the call.
-  TrackResult track(data::Frame frame, bool mapper_idle, int mapper_queue);
+  TrackResult track(data::Frame frame, bool mapper_idle, int mapper_queue, const RefineKeypoints& refine = {});
 
   TrackingState state() const { return state_; }
   /// Tracked frames so far (untracked frames have no record).

@@ -1,0 +1,68 @@
+#pragma once
+// Which keypoints may be used for tracking and mapping (the paper's §3.3, DESIGN.md):
+//  - the ratio gate: T = area(union of boxes) / image area;
+//  - T < tau (or no geometry in the mode): every keypoint inside a box is dynamic;
+//  - T >= tau: a multi-view geometry check against the nearest keyframes finds where static
+//    structure seen before is now hidden by something nearer (depth occlusion); the depth-
+//    consistent region grown from that evidence is dynamic, the rest of the boxes is static.
+// Images and masks are in raw (distorted) pixels, like the depth image.
+#include <memory>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "tkgslam/camera/PinholeCamera.h"
+#include "tkgslam/common/Pose.h"
+#include "tkgslam/data/FrameFeatures.h"
+#include "tkgslam/dynamic/Detection.h"
+
+namespace tkgslam::dynamic {
+
+struct GeometryParams {
+  double ratio_threshold = 0.7;      ///< tau of the ratio gate
+  int reference_keyframes = 3;       ///< nearest keyframes by vDist
+  double reference_max_depth = 6.0;  ///< m, reference keypoints used
+  double current_max_depth = 7.0;    ///< m, projected depth accepted
+  double max_parallax_deg = 30.0;    ///< angle between the two viewing rays
+  double occlusion_threshold = 0.4;  ///< m, z_proj - z' above this is dynamic evidence
+  int patch_radius = 3;              ///< px, patch searched around the projection
+  double max_patch_std = 0.3;        ///< m, a patch with more depth spread is a complex edge: static
+  double region_depth_step = 0.05;   ///< m, neighbour depth step allowed when growing a region
+};
+
+/// A keyframe as the geometry check sees it.
+struct ReferenceView {
+  Pose T_cw;
+  std::shared_ptr<const data::FrameFeatures> features;
+};
+
+/// Rasterised boxes: 255 inside any box. `ratio` = area(union) / image area.
+struct BoxMask {
+  cv::Mat mask;
+  double ratio = 0;
+};
+BoxMask rasterizeBoxes(const std::vector<Detection>& boxes, cv::Size image);
+
+/// Marks every keypoint inside the mask as excluded; returns how many.
+int excludeKeypointsInMask(data::FrameFeatures& features, const cv::Mat& mask);
+
+/// Picks up to `n` keyframes nearest to the current pose by vDist = 0.7 vTrans + 0.3 vRot, each
+/// term divided by its maximum over the candidates (translation between camera centres;
+/// rotation as the norm of the Euler-angle difference). Returns indices into `candidates`.
+std::vector<int> selectReferenceViews(const Pose& T_cw, const std::vector<Pose>& candidates_T_cw, int n);
+
+struct GeometryResult {
+  cv::Mat dynamic_region;  ///< 255 where the check found a moving object (inside the boxes)
+  int evidence = 0;        ///< reference points found hidden behind nearer structure
+  int projected = 0;       ///< reference points that passed the angle/depth/image tests
+};
+
+/// Runs the multi-view geometry check for the current frame (pose T_cw, depth in metres).
+GeometryResult checkMultiViewGeometry(const Pose& T_cw, const cv::Mat& depth_m, const cv::Mat& box_mask,
+                                      const std::vector<ReferenceView>& references,
+                                      const camera::PinholeCamera& camera, const GeometryParams& params);
+
+/// Re-admits keypoints inside the boxes that are not in the dynamic region; returns how many.
+int readmitStaticKeypoints(data::FrameFeatures& features, const cv::Mat& box_mask, const cv::Mat& dynamic_region);
+
+}  // namespace tkgslam::dynamic

@@ -1,0 +1,116 @@
+#include "tkgslam/dynamic/YoloDetector.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include <fmt/format.h>
+#include <opencv2/imgproc.hpp>
+
+#include "tkgslam/common/Error.h"
+
+namespace tkgslam::dynamic {
+
+std::vector<int> defaultDynamicClasses() {
+  // person; bicycle car motorcycle airplane bus train truck boat; bird cat dog horse sheep cow
+  // elephant bear zebra giraffe.
+  return {0, 1, 2, 3, 4, 5, 6, 7, 8, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23};
+}
+
+YoloDetector::YoloDetector(const DetectorParams& params) : params_(params) {
+  if (params_.model.empty()) throw InputError("detector: no model path configured (dynamic.model)");
+  if (!std::filesystem::is_regular_file(params_.model)) {
+    throw InputError(fmt::format("detector: model file '{}' does not exist", params_.model));
+  }
+  if (params_.input_size < 64 || params_.input_size % 32 != 0) {
+    throw InputError(fmt::format("detector: input size {} must be a multiple of 32 and >= 64", params_.input_size));
+  }
+  if (!(params_.confidence > 0 && params_.confidence < 1) || !(params_.person_confidence > 0 && params_.person_confidence < 1) ||
+      !(params_.nms > 0 && params_.nms <= 1)) {
+    throw InputError("detector: confidence thresholds must be in (0, 1) and nms in (0, 1]");
+  }
+  try {
+    net_ = cv::dnn::readNetFromONNX(params_.model);
+  } catch (const cv::Exception& e) {
+    throw InputError(fmt::format("detector: cannot load ONNX model '{}': {}", params_.model, e.what()));
+  }
+  if (net_.empty()) throw InputError(fmt::format("detector: ONNX model '{}' is empty", params_.model));
+  net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
+  net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+  // Probe the output shape once so a wrong model fails at start-up, not mid-run.
+  cv::Mat probe(params_.input_size, params_.input_size, CV_8UC3, cv::Scalar(114, 114, 114));
+  cv::Mat out;
+  try {
+    net_.setInput(cv::dnn::blobFromImage(probe, 1.0 / 255.0, cv::Size(), cv::Scalar(), true, false));
+    out = net_.forward();
+  } catch (const cv::Exception& e) {
+    throw InputError(fmt::format("detector: model '{}' does not run at input size {}: {}", params_.model,
+                                 params_.input_size, e.what()));
+  }
+  if (out.dims != 3 || out.size[2] < 6) {
+    throw InputError(fmt::format("detector: model '{}' output is not YOLOv5-shaped (1 x N x 5+classes)", params_.model));
+  }
+  const int num_classes = out.size[2] - 5;
+  wanted_.assign(num_classes, 0);
+  for (int c : params_.classes) {
+    if (c < 0 || c >= num_classes) {
+      throw InputError(fmt::format("detector: class id {} outside the model's {} classes", c, num_classes));
+    }
+    wanted_[c] = 1;
+  }
+}
+
+std::vector<Detection> YoloDetector::detect(const cv::Mat& bgr) {
+  if (bgr.empty() || bgr.type() != CV_8UC3) throw InputError("detector: expects an 8-bit BGR image");
+  const int S = params_.input_size;
+  const float r = std::min(float(S) / bgr.cols, float(S) / bgr.rows);
+  const int nw = int(std::lround(bgr.cols * r)), nh = int(std::lround(bgr.rows * r));
+  const int pad_x = (S - nw) / 2, pad_y = (S - nh) / 2;
+  cv::Mat letterbox(S, S, CV_8UC3, cv::Scalar(114, 114, 114));
+  cv::resize(bgr, letterbox(cv::Rect(pad_x, pad_y, nw, nh)), cv::Size(nw, nh), 0, 0, cv::INTER_LINEAR);
+  cv::Mat out;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    net_.setInput(cv::dnn::blobFromImage(letterbox, 1.0 / 255.0, cv::Size(), cv::Scalar(), true, false));
+    out = net_.forward();
+  }
+  const int rows = out.size[1], cols = out.size[2];
+  const int num_classes = cols - 5;
+  const float min_conf = std::min(params_.confidence, params_.person_confidence);
+  std::vector<std::vector<cv::Rect2d>> boxes(num_classes);
+  std::vector<std::vector<float>> scores(num_classes);
+  const float* data = out.ptr<float>();
+  for (int i = 0; i < rows; ++i) {
+    const float* row = data + size_t(i) * cols;
+    const float obj = row[4];
+    if (obj < min_conf) continue;
+    const float* cls = row + 5;
+    const int best = int(std::max_element(cls, cls + num_classes) - cls);
+    if (!wanted_[best]) continue;
+    const float score = obj * cls[best];
+    if (score < (best == 0 ? params_.person_confidence : params_.confidence)) continue;
+    const float x = (row[0] - 0.5f * row[2] - pad_x) / r, y = (row[1] - 0.5f * row[3] - pad_y) / r;
+    boxes[best].emplace_back(x, y, row[2] / r, row[3] / r);
+    scores[best].push_back(score);
+  }
+  std::vector<Detection> dets;
+  const cv::Rect2f image(0, 0, float(bgr.cols), float(bgr.rows));
+  for (int c = 0; c < num_classes; ++c) {
+    if (boxes[c].empty()) continue;
+    std::vector<int> keep;
+    cv::dnn::NMSBoxes(boxes[c], scores[c], 0.0f, params_.nms, keep);
+    for (int k : keep) {
+      Detection d;
+      d.box = cv::Rect2f(boxes[c][k]) & image;
+      d.class_id = c;
+      d.score = scores[c][k];
+      if (d.box.area() > 0) dets.push_back(d);
+    }
+  }
+  std::sort(dets.begin(), dets.end(), [](const Detection& a, const Detection& b) {
+    if (a.score != b.score) return a.score > b.score;
+    return a.box.x < b.box.x;
+  });
+  return dets;
+}
+
+}  // namespace tkgslam::dynamic
