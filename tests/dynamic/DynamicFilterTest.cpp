@@ -1,0 +1,111 @@
+// The multi-view geometry check on synthetic RGB-D views where the truth is known.
+#include <gtest/gtest.h>
+
+#include "tkgslam/dynamic/DynamicFilter.h"
+
+namespace tkgslam {
+namespace {
+
+camera::PinholeCamera makeCamera() {
+  camera::CameraParams p;
+  p.width = 320;
+  p.height = 240;
+  p.fx = p.fy = 300;
+  p.cx = 160;
+  p.cy = 120;
+  return camera::PinholeCamera(p);
+}
+
+// Keypoints on a regular grid with depth read from the given depth image.
+std::shared_ptr<data::FrameFeatures> gridFeatures(const cv::Mat& depth, const camera::PinholeCamera& cam) {
+  feature::OrbFeatures orb;
+  for (int v = 10; v < depth.rows - 10; v += 8) {
+    for (int u = 10; u < depth.cols - 10; u += 8) orb.keypoints.emplace_back(cv::Point2f(float(u), float(v)), 31.f);
+  }
+  orb.descriptors = cv::Mat::zeros(int(orb.keypoints.size()), 32, CV_8U);
+  return data::makeFrameFeatures(orb, cv::Mat(), depth, cam, DepthParams{});
+}
+
+struct Scene {
+  camera::PinholeCamera cam = makeCamera();
+  cv::Mat wall = cv::Mat(240, 320, CV_32F, cv::Scalar(3.0f));  // a wall 3 m away
+  Pose T_ref = Pose::Identity();
+  Pose T_cur = Pose::Identity();
+  Scene() { T_cur.translation() = Vec3(-0.1, 0, 0); }  // camera moved 10 cm to the right
+};
+
+int countExcluded(const data::FrameFeatures& f, const cv::Rect& r) {
+  int n = 0;
+  for (int i = 0; i < f.size(); ++i) n += f.excluded[i] && r.contains(cv::Point(f.raw[i].pt));
+  return n;
+}
+
+TEST(DynamicFilter, RatioIsTheUnionOfTheBoxes) {
+  std::vector<dynamic::Detection> boxes(2);
+  boxes[0].box = cv::Rect2f(0, 0, 100, 100);
+  boxes[1].box = cv::Rect2f(50, 50, 100, 100);  // clipped to 100 x 50, overlaps the first by 50 x 50
+  const auto m = dynamic::rasterizeBoxes(boxes, cv::Size(200, 100));
+  EXPECT_NEAR(m.ratio, (10000.0 + 5000.0 - 2500.0) / 20000.0, 1e-9);
+}
+
+TEST(DynamicFilter, BoxOverAStaticWallKeepsItsPoints) {
+  Scene s;
+  auto ref = gridFeatures(s.wall, s.cam);
+  auto cur = gridFeatures(s.wall, s.cam);
+  std::vector<dynamic::Detection> boxes(1);
+  boxes[0].box = cv::Rect2f(20, 10, 280, 220);  // covers ~80 % of the image
+  const auto mask = dynamic::rasterizeBoxes(boxes, s.wall.size());
+  ASSERT_GE(mask.ratio, 0.7);
+  const int in_box = dynamic::excludeKeypointsInMask(*cur, mask.mask);
+  ASSERT_GT(in_box, 500);
+  const auto g = dynamic::checkMultiViewGeometry(s.T_cur, s.wall, mask.mask, {{s.T_ref, ref}}, s.cam, {});
+  EXPECT_GT(g.projected, 500);
+  EXPECT_EQ(g.evidence, 0);
+  EXPECT_EQ(dynamic::readmitStaticKeypoints(*cur, mask.mask, g.dynamic_region), in_box);
+}
+
+TEST(DynamicFilter, ObjectInFrontOfASeenWallLosesOnlyItsOwnPoints) {
+  Scene s;
+  auto ref = gridFeatures(s.wall, s.cam);  // the reference saw the bare wall
+  cv::Mat depth = s.wall.clone();
+  const cv::Rect person(120, 40, 80, 180);
+  depth(person).setTo(1.5f);  // now a person stands 1.5 m away
+  auto cur = gridFeatures(depth, s.cam);
+  std::vector<dynamic::Detection> boxes(1);
+  boxes[0].box = cv::Rect2f(10, 5, 300, 230);  // a loose box: most of the image
+  const auto mask = dynamic::rasterizeBoxes(boxes, depth.size());
+  ASSERT_GE(mask.ratio, 0.7);
+  dynamic::excludeKeypointsInMask(*cur, mask.mask);
+  const auto g = dynamic::checkMultiViewGeometry(s.T_cur, depth, mask.mask, {{s.T_ref, ref}}, s.cam, {});
+  EXPECT_GT(g.evidence, 50);
+  dynamic::readmitStaticKeypoints(*cur, mask.mask, g.dynamic_region);
+  // Every keypoint on the person stays excluded; the wall around it is back in use.
+  const cv::Rect inner(person.x + 4, person.y + 4, person.width - 8, person.height - 8);
+  int on_person = 0;
+  for (int i = 0; i < cur->size(); ++i) on_person += inner.contains(cv::Point(cur->raw[i].pt));
+  EXPECT_EQ(countExcluded(*cur, inner), on_person);
+  int wall_excluded = 0;
+  for (int i = 0; i < cur->size(); ++i) {
+    const cv::Point p(cur->raw[i].pt);
+    const cv::Rect grown(person.x - 6, person.y - 6, person.width + 12, person.height + 12);
+    wall_excluded += cur->excluded[i] && !grown.contains(p);
+  }
+  EXPECT_EQ(wall_excluded, 0);
+}
+
+TEST(DynamicFilter, ReferenceSelectionPrefersNearbyViews) {
+  Pose cur = Pose::Identity();
+  std::vector<Pose> cands(4, Pose::Identity());
+  cands[0].translation() = Vec3(1.0, 0, 0);
+  cands[1].translation() = Vec3(0.05, 0, 0);
+  cands[2].linear() = Eigen::AngleAxisd(0.8, Vec3::UnitY()).toRotationMatrix();
+  cands[3].translation() = Vec3(0.2, 0, 0);
+  const auto sel = dynamic::selectReferenceViews(cur, cands, 3);
+  ASSERT_EQ(sel.size(), 3u);
+  EXPECT_EQ(sel[0], 1);
+  EXPECT_EQ(sel[1], 3);
+  EXPECT_EQ(sel[2], 2);  // 0.3 x 1 (rotation) beats 0.7 x 1 (translation)
+}
+
+}  // namespace
+}  // namespace tkgslam

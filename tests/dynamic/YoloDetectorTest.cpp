@@ -1,0 +1,78 @@
+#include <opencv2/imgcodecs.hpp>
+
+#include <gtest/gtest.h>
+
+#include "TestSupport.h"
+#include "tkgslam/common/Error.h"
+#include "tkgslam/dynamic/YoloDetector.h"
+
+namespace tkgslam {
+namespace {
+
+dynamic::DetectorParams params() {
+  dynamic::DetectorParams p;
+  p.model = (test::sharedDir() / "models" / "yolov5n-coco-640.onnx").string();
+  return p;
+}
+
+// Boxes read off bus.jpg by eye (x, y, w, h in pixels of the 810x1080 photo).
+const cv::Rect2f kLeftMan(50, 398, 158, 500), kMiddleMan(218, 406, 132, 459), kRightMan(670, 376, 140, 499),
+    kBus(48, 236, 762, 535);
+
+float bestIou(const std::vector<dynamic::Detection>& dets, int cls, const cv::Rect2f& truth) {
+  float best = 0;
+  for (const auto& d : dets) {
+    if (d.class_id == cls) best = std::max(best, dynamic::iou(d.box, truth));
+  }
+  return best;
+}
+
+TEST(YoloDetector, FindsThePersonsAndTheBusOnBusJpg) {
+  TKGSLAM_REQUIRE_SHARED();
+  dynamic::YoloDetector detector(params());
+  const cv::Mat img = cv::imread((test::sharedDir() / "datasets/people/bus.jpg").string());
+  ASSERT_FALSE(img.empty());
+  const auto dets = detector.detect(img);
+  EXPECT_GE(bestIou(dets, 0, kLeftMan), 0.5f);
+  EXPECT_GE(bestIou(dets, 0, kMiddleMan), 0.5f);
+  EXPECT_GE(bestIou(dets, 0, kRightMan), 0.5f);
+  EXPECT_GE(bestIou(dets, 5, kBus), 0.5f);
+  int persons = 0;
+  for (const auto& d : dets) persons += d.class_id == 0 && d.score > 0.5f;
+  EXPECT_EQ(persons, 3);
+}
+
+TEST(YoloDetector, NoPersonOnADeskWithoutPeople) {
+  TKGSLAM_REQUIRE_SHARED();
+  dynamic::YoloDetector detector(params());
+  // fr1_xyz's first frame shows a person at the top; the lower part of the image is a desk only.
+  const cv::Mat img = cv::imread((test::fr1xyz() / "rgb" / "1305031102.175304.jpg").string());
+  ASSERT_FALSE(img.empty());
+  const auto full = detector.detect(img);
+  EXPECT_GE(bestIou(full, 0, cv::Rect2f(228, 0, 126, 120)), 0.5f) << "the seated person is found";
+  const auto desk = detector.detect(img(cv::Rect(0, 160, 640, 320)).clone());
+  for (const auto& d : desk) EXPECT_NE(d.class_id, 0) << "person at " << d.box << " score " << d.score;
+}
+
+TEST(YoloDetector, MissingOrMalformedModelIsAClearError) {
+  dynamic::DetectorParams p;
+  p.model = "/nonexistent/model.onnx";
+  EXPECT_THROW(dynamic::YoloDetector{p}, InputError);
+  test::TempDir tmp;
+  test::writeText(tmp / "bad.onnx", "not an onnx file");
+  p.model = (tmp / "bad.onnx").string();
+  try {
+    dynamic::YoloDetector d(p);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.onnx"), std::string::npos) << e.what();
+  }
+  if (!test::sharedDir().empty()) {
+    p = params();
+    p.input_size = 320;  // the bundled export has a fixed 640 input
+    EXPECT_THROW(dynamic::YoloDetector{p}, InputError);
+  }
+}
+
+}  // namespace
+}  // namespace tkgslam
