@@ -11,5 +11,6 @@ using Action = std::function<int()>;
 Action addEvalCommand(CLI::App& app);
 Action addRunCommand(CLI::App& app);
 Action addDetectCommand(CLI::App& app);
+Action addAugmentCommand(CLI::App& app);
 
 }  // namespace tkgslam::app

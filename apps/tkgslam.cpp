@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   add(tkgslam::app::addRunCommand);
   add(tkgslam::app::addEvalCommand);
   add(tkgslam::app::addDetectCommand);
+  add(tkgslam::app::addAugmentCommand);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,61 @@
+// tkgslam augment: composite real people walking through a real static RGB-D sequence.
+#include <cstdio>
+
+#include "Commands.h"
+#include "tkgslam/augment/SequenceAugmenter.h"
+#include "tkgslam/common/Error.h"
+#include "tkgslam/io/ConfigFile.h"
+
+namespace tkgslam::app {
+
+namespace {
+
+struct AugmentCliOptions {
+  std::string dataset, people, out, config = "configs/tum_fr1.yaml";
+  augment::AugmentOptions options;
+};
+
+int runAugment(const AugmentCliOptions& o) {
+  const SlamConfig config = io::loadConfig(o.config);
+  io::TumDatasetOptions dopt;
+  dopt.depth_factor = config.depth.factor;
+  io::TumDataset dataset(o.dataset, dopt);
+  const auto gt_path = dataset.groundTruthPath();
+  if (!gt_path) throw InputError("augment: the dataset has no groundtruth.txt");
+  const auto gt = io::readTumTrajectory(*gt_path);
+  auto det_params = config.dynamic.detector;
+  dynamic::YoloDetector detector(det_params);
+  const auto cutouts = augment::extractPersonCutouts(o.people, detector);
+  std::printf("%zu person cut-outs from %s\n", cutouts.size(), o.people.c_str());
+  const camera::PinholeCamera camera(config.camera);
+  const auto s = augment::augmentSequence(dataset, gt, cutouts, camera, config.depth.factor, o.out, o.options);
+  std::printf("wrote %d frames to %s: dynamic pixels mean %.1f %% (max %.1f %%), box ratio T mean %.2f, "
+              "T >= 0.7 on %d frames, %d blurred frames\n",
+              s.frames, o.out.c_str(), 100 * s.mean_coverage, 100 * s.max_coverage, s.mean_box_ratio,
+              s.frames_ratio_over_07, s.blurred);
+  return 0;
+}
+
+}  // namespace
+
+Action addAugmentCommand(CLI::App& app) {
+  auto o = std::make_shared<AugmentCliOptions>();
+  auto* cmd = app.add_subcommand("augment", "Composite real people moving through a static TUM sequence");
+  cmd->add_option("-d,--dataset", o->dataset, "Static TUM sequence with groundtruth.txt")->required();
+  cmd->add_option("-p,--people", o->people, "Folder of photos with people")->required();
+  cmd->add_option("-o,--out", o->out, "Output folder (TUM layout + masks/ + boxes.txt)")->required();
+  cmd->add_option("-c,--config", o->config, "Camera config (and detector model for the cut-outs)")
+      ->default_val(o->config);
+  auto& a = o->options;
+  cmd->add_option("--seed", a.seed, "Random seed (same seed, same sequence)")->default_val(1);
+  cmd->add_option("--count", a.people, "Number of people")->default_val(1)->check(CLI::Range(1, 20));
+  cmd->add_option("--min-size", a.min_size, "Smallest person height, fraction of the image height")->default_val(0.3);
+  cmd->add_option("--max-size", a.max_size, "Largest person height, fraction of the image height")->default_val(0.6);
+  cmd->add_option("--speed", a.speed, "Peak walking speed, m/s")->default_val(0.3)->check(CLI::PositiveNumber);
+  cmd->add_option("--blur", a.blur_probability, "Share of frames with motion blur")->default_val(0.0)
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--frames", a.max_frames, "Only the first N frames")->default_val(0)->check(CLI::NonNegativeNumber);
+  return [o] { return runAugment(*o); };
+}
+
+}  // namespace tkgslam::app

@@ -1,0 +1,47 @@
+#pragma once
+// Builds a dynamic RGB-D sequence with exact ground truth from real parts: a real static TUM
+// sequence (real camera trajectory) and real people cut out of photos, each walking its own 3-D
+// path in the world (independent of the camera), so its pixels move inconsistently with the camera
+// motion. The person's depth overwrites the depth image where it is nearer than the background,
+// so the geometry check has a real occlusion to find. Deterministic for a given seed.
+//
+// Output (TUM layout): rgb/, depth/, rgb.txt, depth.txt, groundtruth.txt (copied), plus
+// masks/ (255 = dynamic pixel) and boxes.txt ("timestamp person x y w h", raw pixels).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tkgslam/augment/PersonCutout.h"
+#include "tkgslam/camera/PinholeCamera.h"
+#include "tkgslam/io/TrajectoryFile.h"
+#include "tkgslam/io/TumDataset.h"
+
+namespace tkgslam::augment {
+
+struct AugmentOptions {
+  int people = 1;
+  double min_size = 0.3;      ///< person height on screen at its mean distance, fraction of image height
+  double max_size = 0.6;
+  double speed = 0.3;         ///< m/s, peak walking speed across the view
+  double blur_probability = 0.0;  ///< share of frames with strong motion blur (detector misses)
+  int blur_kernel = 31;       ///< px, length of the motion-blur kernel
+  std::uint64_t seed = 1;
+  int max_frames = 0;         ///< 0 = the whole sequence
+  int jpeg_quality = 95;
+};
+
+struct AugmentStats {
+  int frames = 0;
+  double mean_coverage = 0;   ///< dynamic pixels / image, mean over frames
+  double max_coverage = 0;
+  double mean_box_ratio = 0;  ///< union of the person boxes / image
+  int frames_ratio_over_07 = 0;
+  int blurred = 0;
+};
+
+/// Writes the composite sequence to `out_dir`. Throws InputError on I/O problems.
+AugmentStats augmentSequence(const io::TumDataset& dataset, const std::vector<io::TrajectoryEntry>& ground_truth,
+                             const std::vector<PersonCutout>& cutouts, const camera::PinholeCamera& camera,
+                             double depth_factor, const std::string& out_dir, const AugmentOptions& options);
+
+}  // namespace tkgslam::augment
