@@ -53,6 +53,8 @@ std::vector<PersonCutout> extractPersonCutouts(const std::string& folder, dynami
     for (const auto& d : detector.detect(img)) {
       if (d.class_id != 0 || d.score < min_score || d.box.height < min_height) continue;
       const cv::Rect box = cv::Rect(d.box) & cv::Rect(0, 0, img.cols, img.rows);
+      // Whole people only: a box touching the photo's border holds a cut-off body.
+      if (box.x <= 2 || box.y <= 2 || box.br().x >= img.cols - 2 || box.br().y >= img.rows - 2) continue;
       PersonCutout c;
       c.mask = segmentInBox(img, box);
       // A good cut-out covers a fair part of its box; reject failed segmentations.

@@ -47,9 +47,15 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     ok = relocalize(frame);
   }
   if (ok) ok = trackLocalMap(frame);
-  if (ok && refine && refine(frame, local_keyframes_) > 0) {
-    // Keypoints found static by the geometry check can now be matched too.
-    ok = trackLocalMap(frame);
+  if (refine && state_ == TrackingState::Ok && (ok || has_velocity_)) {
+    // The geometry check needs a pose: the tracked one, or - when the keypoints outside the boxes
+    // were too few to track - the motion model's prediction. Keypoints it finds static are then
+    // matched too.
+    if (!ok) frame.T_cw = orthonormalized(velocity_ * last_frame_->T_cw);
+    if (refine(frame, local_keyframes_) > 0) {
+      if (!ok) ok = trackWithMotionModel(frame) || trackReferenceKeyFrame(frame);
+      if (ok) ok = trackLocalMap(frame);
+    }
   }
 
   if (ok) {
@@ -97,9 +103,14 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
 
 bool Tracker::initialize(Frame& frame, bool new_segment) {
   const auto& F = *frame.features;
-  int with_depth = 0;
-  for (int i = 0; i < frame.size(); ++i) with_depth += F.hasDepth(i) && !F.excluded[i];
-  if (with_depth < cfg_.tracking.min_init_features) return false;
+  int with_depth = 0, usable = 0;
+  for (int i = 0; i < frame.size(); ++i) {
+    with_depth += F.hasDepth(i);
+    usable += F.hasDepth(i) && !F.excluded[i];
+  }
+  // As ORB-SLAM2: enough keypoints with depth; of them, those off dynamic objects must still
+  // be a fair number (a person may fill most of the first frame).
+  if (with_depth < cfg_.tracking.min_init_features || usable < cfg_.tracking.min_init_features / 5) return false;
   if (!new_segment) frame.T_cw = Pose::Identity();
   auto kf = std::make_shared<KeyFrame>(map_.newKeyFrameId(), frame.id, frame.timestamp, frame.features, frame.T_cw);
   for (int i = 0; i < frame.size(); ++i) {
@@ -123,8 +134,7 @@ bool Tracker::initialize(Frame& frame, bool new_segment) {
   local_points_ = map_.mapPoints();
   state_ = TrackingState::Ok;
   lost_frames_ = 0;
-  has_velocity_ = false;
-  last_reloc_frame_ = frame.id;
+  has_velocity_ = false;  // the next frame is tracked against this keyframe
   records_.push_back({frame.timestamp, kf, Pose::Identity()});
   last_frame_ = std::make_unique<Frame>(frame);
   spdlog::debug("map initialised at frame {} with {} points", frame.id, map_.mapPointCount());
