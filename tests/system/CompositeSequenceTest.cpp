@@ -1,0 +1,73 @@
+// A short composite of real people walking through the real fr1_xyz sequence: the people must
+// really hurt the ORB-SLAM2-style baseline, and TKG must stay close to the static original.
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "TestSupport.h"
+#include "tkgslam/eval/Ate.h"
+#include "tkgslam/io/TrajectoryFile.h"
+
+namespace tkgslam {
+namespace {
+
+double ateOf(const std::filesystem::path& gt, const std::filesystem::path& traj) {
+  return eval::computeAte(io::readTumTrajectory(gt.string()), io::readTumTrajectory(traj.string())).stats.rmse;
+}
+
+TEST(CompositeSequence, TkgStaysCloseToTheStaticOriginalWhileOrbSuffers) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  const auto cfg = (test::sourceDir() / "configs/tum_fr1.yaml").string();
+  const auto aug = tmp / "aug";
+  std::string out;
+  ASSERT_EQ(test::runCli("augment -c " + cfg + " -d " + test::fr1xyz().string() + " -p " +
+                             (test::sharedDir() / "datasets/people").string() + " -o " + aug.string() +
+                             " --count 3 --min-size 0.7 --max-size 1.0 --frames 150 --seed 3",
+                         &out),
+            0)
+      << out;
+  // The composite is a complete TUM sequence with ground-truth masks and boxes.
+  for (const char* f : {"rgb.txt", "depth.txt", "groundtruth.txt", "boxes.txt"}) {
+    EXPECT_TRUE(std::filesystem::exists(aug / f)) << f;
+  }
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(aug / "masks"), {}), 150);
+
+  const std::string run = "run --deterministic -q -c " + cfg + " -o ";
+  ASSERT_EQ(test::runCli(run + (tmp / "static").string() + " --max-frames 150 --mode orb -d " + test::fr1xyz().string(), &out), 0) << out;
+  ASSERT_EQ(test::runCli(run + (tmp / "orb").string() + " --mode orb -d " + aug.string(), &out), 0) << out;
+  ASSERT_EQ(test::runCli(run + (tmp / "tkg").string() + " --mode TKG -d " + aug.string(), &out), 0) << out;
+  const auto gt = aug / "groundtruth.txt";
+  const double ate_static = ateOf(gt, tmp / "static" / "trajectory.txt");
+  const double ate_orb = ateOf(gt, tmp / "orb" / "trajectory.txt");
+  const double ate_tkg = ateOf(gt, tmp / "tkg" / "trajectory.txt");
+  RecordProperty("ate_static", std::to_string(ate_static));
+  RecordProperty("ate_orb", std::to_string(ate_orb));
+  RecordProperty("ate_tkg", std::to_string(ate_tkg));
+  EXPECT_LE(ate_tkg, 1.5 * ate_static) << "static " << ate_static << " TKG " << ate_tkg;
+  EXPECT_GE(ate_orb, 2.0 * ate_tkg) << "orb " << ate_orb << " TKG " << ate_tkg << ": composite not dynamic enough";
+  EXPECT_GE(io::readTumTrajectory((tmp / "tkg" / "trajectory.txt").string()).size(), 145u);
+}
+
+TEST(CompositeSequence, SameSeedSameSequence) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  const std::string common = "augment -c " + (test::sourceDir() / "configs/tum_fr1.yaml").string() + " -d " +
+                             test::fr1xyz().string() + " -p " + (test::sharedDir() / "datasets/people").string() +
+                             " --count 2 --frames 5 --seed 9 --blur 0.5 -o ";
+  std::string out;
+  ASSERT_EQ(test::runCli(common + (tmp / "a").string(), &out), 0) << out;
+  ASSERT_EQ(test::runCli(common + (tmp / "b").string(), &out), 0) << out;
+  auto slurp = [](const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  EXPECT_EQ(slurp(tmp / "a" / "boxes.txt"), slurp(tmp / "b" / "boxes.txt"));
+  for (const auto& e : std::filesystem::directory_iterator(tmp / "a" / "rgb")) {
+    EXPECT_EQ(slurp(e.path()), slurp(tmp / "b" / "rgb" / e.path().filename())) << e.path();
+  }
+  EXPECT_GT(slurp(tmp / "a" / "boxes.txt").size(), 100u);
+}
+
+}  // namespace
+}  // namespace tkgslam
