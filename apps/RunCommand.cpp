@@ -98,6 +98,15 @@ int runSlam(const RunOptions& o) {
   io::writePly((out / "map.ply").string(), slam.mapPoints());
   writeText(out / "timing.json", slam.timing().toJson() + "\n");
   if (!o.debug_dynamic.empty()) writeDynamicDebug(o.debug_dynamic, slam.dynamicInfo());
+  if (const auto& c = slam.classification(); c.frames > 0) {
+    writeText(out / "dynamic_eval.json",
+              fmt::format("{{\"frames\": {}, \"true_positive\": {}, \"false_positive\": {}, \"false_negative\": {}, "
+                          "\"true_negative\": {}, \"precision\": {:.4f}, \"recall\": {:.4f}}}\n",
+                          c.frames, c.true_positive, c.false_positive, c.false_negative, c.true_negative, c.precision(),
+                          c.recall()));
+    std::printf("dynamic keypoints vs ground-truth masks: precision %.3f, recall %.3f (%d frames)\n", c.precision(),
+                c.recall(), c.frames);
+  }
   if (config.dynamic.mode != DynamicMode::Orb) {
     const auto& info = slam.dynamicInfo();
     int geometry = 0, predicted = 0;

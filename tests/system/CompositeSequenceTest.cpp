@@ -47,6 +47,12 @@ TEST(CompositeSequence, TkgStaysCloseToTheStaticOriginalWhileOrbSuffers) {
   EXPECT_LE(ate_tkg, 1.5 * ate_static) << "static " << ate_static << " TKG " << ate_tkg;
   EXPECT_GE(ate_orb, 2.0 * ate_tkg) << "orb " << ate_orb << " TKG " << ate_tkg << ": composite not dynamic enough";
   EXPECT_GE(io::readTumTrajectory((tmp / "tkg" / "trajectory.txt").string()).size(), 145u);
+  // The run scores its keypoint classification against the composite's truth masks.
+  std::ifstream dyn(tmp / "tkg" / "dynamic_eval.json");
+  const std::string d((std::istreambuf_iterator<char>(dyn)), std::istreambuf_iterator<char>());
+  const auto at = d.find("\"recall\": ");
+  ASSERT_NE(at, std::string::npos) << d;
+  EXPECT_GT(std::stod(d.substr(at + 10)), 0.6) << d;
 }
 
 TEST(CompositeSequence, SameSeedSameSequence) {

@@ -92,6 +92,7 @@ TumDataset::TumDataset(const std::string& directory, TumDatasetOptions options)
     }
     entries_.push_back(std::move(e));
   }
+  has_masks_ = fs::is_directory(dir / "masks");
   const double span = entries_.back().rgb_timestamp - entries_.front().rgb_timestamp;
   loop_period_ = span + (entries_.size() > 1 ? span / double(entries_.size() - 1) : 1.0);
 }
@@ -137,6 +138,11 @@ RgbdImages TumDataset::load(int i) const {
     throw InputError(fmt::format("image '{}' is {}x{} but the camera config says {}x{}", e.rgb_path,
                                  colour.cols, colour.rows, options_.expected_width,
                                  options_.expected_height));
+  }
+  if (has_masks_) {
+    const auto mask_path = fs::path(directory_) / "masks" / (fs::path(e.rgb_path).stem().string() + ".png");
+    out.truth_mask = cv::imread(mask_path.string(), cv::IMREAD_GRAYSCALE);
+    if (out.truth_mask.size() != colour.size()) out.truth_mask.release();
   }
   if (raw.type() == CV_16UC1) {
     raw.convertTo(out.depth_m, CV_32F, 1.0 / options_.depth_factor);

@@ -34,6 +34,7 @@ struct RgbdImages {
   cv::Mat bgr;
   cv::Mat gray;
   cv::Mat depth_m;
+  cv::Mat truth_mask;  ///< composites only: 255 where a dynamic object really is (else empty)
 };
 
 /// One "timestamp filename" line of rgb.txt / depth.txt.
@@ -64,6 +65,9 @@ class TumDataset {
   /// size, or the depth image is not single-channel 16-bit (or 32-bit float in metres).
   RgbdImages load(int i) const;
 
+  /// True for composites written by `tkgslam augment` (a masks/ folder with per-frame truth).
+  bool hasTruthMasks() const { return has_masks_; }
+
   /// Path of groundtruth.txt if the dataset has one.
   std::optional<std::string> groundTruthPath() const;
 
@@ -72,6 +76,7 @@ class TumDataset {
   TumDatasetOptions options_;
   std::vector<RgbdEntry> entries_;
   double loop_period_ = 0.0;
+  bool has_masks_ = false;
 };
 
 }  // namespace tkgslam::io

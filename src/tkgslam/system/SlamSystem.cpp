@@ -99,6 +99,17 @@ tracking::TrackResult SlamSystem::processFrame(const io::RgbdImages& images) {
   data::Frame frame(frames_, images.timestamp, features);
   auto result = tracker_->track(std::move(frame), mapping_thread_->idle(), mapping_thread_->queued(), refine);
   const double t_track = msSince(t1);
+  if (!images.truth_mask.empty()) {
+    ++classification_.frames;
+    for (int i = 0; i < features->size(); ++i) {
+      const cv::Point p(cvRound(features->raw[i].pt.x), cvRound(features->raw[i].pt.y));
+      const bool truly = p.inside(cv::Rect(0, 0, images.truth_mask.cols, images.truth_mask.rows)) &&
+                         images.truth_mask.at<uchar>(p) > 0;
+      const bool dropped = features->excluded[i];
+      (truly ? (dropped ? classification_.true_positive : classification_.false_negative)
+             : (dropped ? classification_.false_positive : classification_.true_negative))++;
+    }
+  }
   if (detector_) {
     info.timestamp = images.timestamp;
     info.keypoints = features->size();

@@ -34,6 +34,21 @@ struct DynamicFrameInfo {
   std::vector<cv::Point2f> dropped_points;  ///< raw pixels of the excluded keypoints
 };
 
+/// Keypoint classification against ground-truth masks (composites): positive = dynamic.
+struct KeypointClassification {
+  long true_positive = 0;   ///< dropped, on a dynamic object
+  long false_positive = 0;  ///< dropped, static
+  long false_negative = 0;  ///< kept, on a dynamic object
+  long true_negative = 0;
+  int frames = 0;
+  double precision() const {
+    return true_positive + false_positive ? double(true_positive) / (true_positive + false_positive) : 0.0;
+  }
+  double recall() const {
+    return true_positive + false_negative ? double(true_positive) / (true_positive + false_negative) : 0.0;
+  }
+};
+
 class SlamSystem {
  public:
   /// Throws InputError for an invalid configuration.
@@ -57,6 +72,8 @@ class SlamSystem {
   tracking::TrackingState state() const { return tracker_->state(); }
   const TimingStats& timing() const { return timing_; }
   const std::vector<DynamicFrameInfo>& dynamicInfo() const { return dynamic_info_; }
+  /// Filled for frames that come with a truth mask.
+  const KeypointClassification& classification() const { return classification_; }
   const SlamConfig& config() const { return config_; }
 
  private:
@@ -71,6 +88,7 @@ class SlamSystem {
   dynamic::BoxTracker box_tracker_;
   std::vector<dynamic::Detection> last_detections_;
   std::vector<DynamicFrameInfo> dynamic_info_;
+  KeypointClassification classification_;
   TimingStats timing_;
   int frames_ = 0;
 

@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# Dynamic benchmark from real data (issue 5): composites of real people walking through the real
+# fr1_xyz sequence, every ablation mode on each and on the static original, tables like the
+# paper's Tables 1-4 in OUT/tables.md.
+#   bench/dynamic_benchmark.sh [OUT]        env: FRAMES (default 300), MODES, SEQ
+# Every run uses --deterministic, so one run per cell is the median of any number of runs.
+set -euo pipefail
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+BIN="$ROOT/build/bin/tkgslam"
+SEQ=${SEQ:-"$ROOT/../shared/datasets/rgbd_dataset_freiburg1_xyz"}
+PEOPLE=${PEOPLE:-"$ROOT/../shared/datasets/people"}
+OUT=${1:-"$ROOT/out/dynamic_benchmark"}
+FRAMES=${FRAMES:-300}
+MODES=${MODES:-"orb T TK TG TKG"}
+CFG="$ROOT/configs/tum_fr1.yaml"
+[ -x "$BIN" ] || { echo "build first: scripts/build.sh" >&2; exit 1; }
+[ -d "$SEQ" ] || { echo "sequence $SEQ not found" >&2; exit 1; }
+mkdir -p "$OUT"
+
+# name | augment options
+COMPOSITES=(
+  "low|--count 1 --min-size 0.25 --max-size 0.4 --speed 0.15 --seed 11"
+  "high|--count 4 --min-size 0.8 --max-size 1.1 --speed 0.4 --seed 12"
+  "high_blur|--count 4 --min-size 0.8 --max-size 1.1 --speed 0.4 --blur 0.3 --seed 13"
+)
+for c in "${COMPOSITES[@]}"; do
+  name=${c%%|*}; opts=${c#*|}
+  if [ ! -f "$OUT/seq_$name/rgb.txt" ]; then
+    echo "== building composite '$name' ($FRAMES frames)"
+    # shellcheck disable=SC2086
+    "$BIN" augment -c "$CFG" -d "$SEQ" -p "$PEOPLE" -o "$OUT/seq_$name" --frames "$FRAMES" $opts | tee "$OUT/seq_$name.log"
+  fi
+done
+
+run_one() {  # sequence-name dataset-dir mode
+  local name=$1 dir=$2 mode=$3 res="$OUT/runs/$1/$3"
+  mkdir -p "$res"
+  echo "== $name / $mode"
+  "$BIN" run -q --deterministic -c "$CFG" -d "$dir" -o "$res" --mode "$mode" --max-frames "$FRAMES" > "$res/run.log" 2>&1
+  "$BIN" eval --json --frames "$dir" "$dir/groundtruth.txt" "$res/trajectory.txt" > "$res/eval.json" 2> "$res/eval.err" ||
+    echo '{}' > "$res/eval.json"
+}
+for mode in $MODES; do run_one static "$SEQ" "$mode"; done
+for c in "${COMPOSITES[@]}"; do
+  name=${c%%|*}
+  for mode in $MODES; do run_one "$name" "$OUT/seq_$name" "$mode"; done
+done
+python3 "$ROOT/bench/make_tables.py" "$OUT" "$FRAMES" > "$OUT/tables.md"
+echo "tables: $OUT/tables.md"
