@@ -46,4 +46,4 @@ for c in "${COMPOSITES[@]}"; do
   for mode in $MODES; do run_one "$name" "$OUT/seq_$name" "$mode"; done
 done
 python3 "$ROOT/bench/make_tables.py" "$OUT" "$FRAMES" > "$OUT/tables.md"
-echo "tables: $OUT/tables.md"
+echo "tables: $OUT/tables.md, figure: $OUT/precision_recall.svg"

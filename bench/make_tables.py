@@ -81,3 +81,54 @@ for s in seqs:
         total = t["total"]["mean_ms"] - per_frame("local_mapping_sync")
         print(f"| {s} | {m} | {T:.1f} | {per_frame('detector') / T:.2f}T | {per_frame('box_tracker') / T:.3f}T | "
               f"{per_frame('geometry') / T:.3f}T | {total / T:.2f}T |")
+
+
+def precision_recall_svg(path):
+    """Precision/recall of the dynamic-keypoint classification, one marker per (sequence, mode)."""
+    W, H, M = 560, 420, 60
+    colours = {"T": "#1f77b4", "TK": "#ff7f0e", "TG": "#2ca02c", "TKG": "#d62728"}
+    shapes = {"low": "circle", "high": "square", "high_blur": "triangle"}
+    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}">',
+             '<rect width="100%" height="100%" fill="white"/>',
+             f'<text x="{M}" y="24" font-family="sans-serif" font-size="15">Dynamic keypoints vs ground-truth '
+             'masks</text>',
+             f'<line x1="{M}" y1="{H - M}" x2="{W - M}" y2="{H - M}" stroke="black"/>',
+             f'<line x1="{M}" y1="{H - M}" x2="{M}" y2="{M}" stroke="black"/>',
+             f'<text x="{W / 2 - 20}" y="{H - 20}" font-family="sans-serif" font-size="12">recall</text>',
+             f'<text x="12" y="{H / 2}" font-family="sans-serif" font-size="12">precision</text>']
+    for k in range(0, 11, 2):
+        v = k / 10
+        x = M + v * (W - 2 * M)
+        y = H - M - v * (H - 2 * M)
+        parts.append(f'<text x="{x - 8:.0f}" y="{H - M + 16}" font-family="sans-serif" font-size="10">{v:.1f}</text>')
+        parts.append(f'<text x="{M - 28}" y="{y + 4:.0f}" font-family="sans-serif" font-size="10">{v:.1f}</text>')
+    legend_y = M
+    for s, shape in shapes.items():
+        for m, col in colours.items():
+            _, _, d = cell(s, m)
+            if not d:
+                continue
+            x = M + d["recall"] * (W - 2 * M)
+            y = H - M - d["precision"] * (H - 2 * M)
+            if shape == "circle":
+                parts.append(f'<circle cx="{x:.1f}" cy="{y:.1f}" r="6" fill="{col}"/>')
+            elif shape == "square":
+                parts.append(f'<rect x="{x - 6:.1f}" y="{y - 6:.1f}" width="12" height="12" fill="{col}"/>')
+            else:
+                parts.append(f'<polygon points="{x:.1f},{y - 7:.1f} {x - 7:.1f},{y + 6:.1f} {x + 7:.1f},{y + 6:.1f}" '
+                             f'fill="{col}"/>')
+    for i, (m, col) in enumerate(colours.items()):
+        parts.append(f'<rect x="{W - M - 110}" y="{legend_y + 16 * i}" width="10" height="10" fill="{col}"/>'
+                     f'<text x="{W - M - 95}" y="{legend_y + 9 + 16 * i}" font-family="sans-serif" '
+                     f'font-size="11">{m}</text>')
+    for i, s in enumerate(shapes):
+        parts.append(f'<text x="{W - M - 110}" y="{legend_y + 90 + 16 * i}" font-family="sans-serif" '
+                     f'font-size="11">{shapes[s]}: {s}</text>')
+    parts.append('</svg>')
+    with open(path, "w") as f:
+        f.write("\n".join(parts) + "\n")
+
+
+precision_recall_svg(os.path.join(out, "precision_recall.svg"))
+print("\nPrecision/recall figure: precision_recall.svg (recall = share of the keypoints on people that were "
+      "dropped, precision = share of the dropped keypoints that were on people).")

@@ -35,6 +35,63 @@ std::vector<dynamic::Detection> SlamSystem::boxesFor(const std::vector<dynamic::
   return detector_ran ? box_tracker_.update(detections, image) : box_tracker_.predictAll(image);
 }
 
+tracking::RefineKeypoints SlamSystem::filterDynamic(const io::RgbdImages& images,
+                                                    std::future<std::pair<std::vector<dynamic::Detection>, double>>& detection,
+                                                    bool detector_ran, data::FrameFeatures& features,
+                                                    dynamic::BoxMask& box_mask, DynamicFrameInfo& info) {
+  const auto tw = std::chrono::steady_clock::now();
+  std::vector<dynamic::Detection> detections;
+  if (detector_ran) {
+    auto [dets, ms] = detection.get();
+    detections = std::move(dets);
+    timing_.add("detector", ms);
+  }
+  timing_.add("detector_wait", msSince(tw));
+  const auto tb = std::chrono::steady_clock::now();
+  info.boxes = boxesFor(detections, detector_ran, images.bgr.size());
+  if (config_.dynamic.usesKalman()) timing_.add("box_tracker", msSince(tb));
+  box_mask = dynamic::rasterizeBoxes(info.boxes, images.bgr.size());
+  info.box_ratio = box_mask.ratio;
+  for (const auto& b : info.boxes) (b.predicted ? info.predicted : info.detected)++;
+  dynamic::excludeKeypointsInMask(features, box_mask.mask);
+  if (!config_.dynamic.usesGeometry() || box_mask.ratio < config_.dynamic.geometry.ratio_threshold) return {};
+  // Boxes cover most of the image: once tracking has a pose, the multi-view geometry check
+  // re-admits the static keypoints inside them.
+  return [this, &images, &box_mask, &info](data::Frame& frame,
+                                           const std::vector<std::shared_ptr<data::KeyFrame>>& local) {
+    const auto tg = std::chrono::steady_clock::now();
+    std::vector<Pose> poses;
+    std::vector<const data::KeyFrame*> kfs;
+    for (const auto& kf : local) {
+      if (kf->bad) continue;
+      poses.push_back(kf->T_cw());
+      kfs.push_back(kf.get());
+    }
+    std::vector<dynamic::ReferenceView> refs;
+    for (int i : dynamic::selectReferenceViews(frame.T_cw, poses, config_.dynamic.geometry.reference_keyframes)) {
+      refs.push_back({kfs[i]->T_cw(), kfs[i]->features});
+    }
+    const auto g = dynamic::checkMultiViewGeometry(frame.T_cw, images.depth_m, box_mask.mask, refs, camera_,
+                                                   config_.dynamic.geometry);
+    info.readmitted = dynamic::readmitStaticKeypoints(*frame.features, box_mask.mask, g.dynamic_region);
+    info.geometry = true;
+    timing_.add("geometry", msSince(tg));
+    return info.readmitted;
+  };
+}
+
+void SlamSystem::scoreAgainstTruth(const cv::Mat& truth, const data::FrameFeatures& features) {
+  ++classification_.frames;
+  const cv::Rect image(0, 0, truth.cols, truth.rows);
+  for (int i = 0; i < features.size(); ++i) {
+    const cv::Point p(cvRound(features.raw[i].pt.x), cvRound(features.raw[i].pt.y));
+    const bool truly = p.inside(image) && truth.at<uchar>(p) > 0;
+    const bool dropped = features.excluded[i];
+    (truly ? (dropped ? classification_.true_positive : classification_.false_negative)
+           : (dropped ? classification_.false_positive : classification_.true_negative))++;
+  }
+}
+
 tracking::TrackResult SlamSystem::processFrame(const io::RgbdImages& images) {
   const auto t0 = std::chrono::steady_clock::now();
   // The detector works on its own thread while this one extracts ORB features.
@@ -51,65 +108,17 @@ tracking::TrackResult SlamSystem::processFrame(const io::RgbdImages& images) {
   auto features = data::makeFrameFeatures(std::move(orb), images.bgr, images.depth_m, camera_, config_.depth);
   const double t_extract = msSince(t0);
 
-  tracking::RefineKeypoints refine;
   dynamic::BoxMask box_mask;
   DynamicFrameInfo info;
-  if (detector_) {
-    const auto tw = std::chrono::steady_clock::now();
-    std::vector<dynamic::Detection> detections;
-    if (run_detector) {
-      auto [dets, ms] = detection.get();
-      detections = std::move(dets);
-      timing_.add("detector", ms);
-    }
-    timing_.add("detector_wait", msSince(tw));
-    const auto tb = std::chrono::steady_clock::now();
-    info.boxes = boxesFor(detections, run_detector, images.bgr.size());
-    if (config_.dynamic.usesKalman()) timing_.add("box_tracker", msSince(tb));
-    box_mask = dynamic::rasterizeBoxes(info.boxes, images.bgr.size());
-    info.box_ratio = box_mask.ratio;
-    for (const auto& b : info.boxes) (b.predicted ? info.predicted : info.detected)++;
-    dynamic::excludeKeypointsInMask(*features, box_mask.mask);
-    if (config_.dynamic.usesGeometry() && box_mask.ratio >= config_.dynamic.geometry.ratio_threshold) {
-      refine = [this, &images, &box_mask, &info](data::Frame& frame,
-                                                 const std::vector<std::shared_ptr<data::KeyFrame>>& local) {
-        const auto tg = std::chrono::steady_clock::now();
-        std::vector<Pose> poses;
-        std::vector<const data::KeyFrame*> kfs;
-        for (const auto& kf : local) {
-          if (kf->bad) continue;
-          poses.push_back(kf->T_cw());
-          kfs.push_back(kf.get());
-        }
-        std::vector<dynamic::ReferenceView> refs;
-        for (int i : dynamic::selectReferenceViews(frame.T_cw, poses, config_.dynamic.geometry.reference_keyframes)) {
-          refs.push_back({kfs[i]->T_cw(), kfs[i]->features});
-        }
-        const auto g = dynamic::checkMultiViewGeometry(frame.T_cw, images.depth_m, box_mask.mask, refs, camera_,
-                                                       config_.dynamic.geometry);
-        info.readmitted = dynamic::readmitStaticKeypoints(*frame.features, box_mask.mask, g.dynamic_region);
-        info.geometry = true;
-        timing_.add("geometry", msSince(tg));
-        return info.readmitted;
-      };
-    }
-  }
+  tracking::RefineKeypoints refine;
+  if (detector_) refine = filterDynamic(images, detection, run_detector, *features, box_mask, info);
 
   const auto t1 = std::chrono::steady_clock::now();
   data::Frame frame(frames_, images.timestamp, features);
   auto result = tracker_->track(std::move(frame), mapping_thread_->idle(), mapping_thread_->queued(), refine);
   const double t_track = msSince(t1);
-  if (!images.truth_mask.empty()) {
-    ++classification_.frames;
-    for (int i = 0; i < features->size(); ++i) {
-      const cv::Point p(cvRound(features->raw[i].pt.x), cvRound(features->raw[i].pt.y));
-      const bool truly = p.inside(cv::Rect(0, 0, images.truth_mask.cols, images.truth_mask.rows)) &&
-                         images.truth_mask.at<uchar>(p) > 0;
-      const bool dropped = features->excluded[i];
-      (truly ? (dropped ? classification_.true_positive : classification_.false_negative)
-             : (dropped ? classification_.false_positive : classification_.true_negative))++;
-    }
-  }
+
+  if (!images.truth_mask.empty()) scoreAgainstTruth(images.truth_mask, *features);
   if (detector_) {
     info.timestamp = images.timestamp;
     info.keypoints = features->size();

@@ -1,6 +1,7 @@
 #pragma once
 // The RGB-D SLAM pipeline for one sequence: feature extraction, tracking, local mapping (on its
 // own thread unless deterministic), and the outputs (trajectories, map, timings).
+#include <future>
 #include <memory>
 #include <string>
 #include <vector>
@@ -8,6 +9,7 @@
 #include "tkgslam/camera/PinholeCamera.h"
 #include "tkgslam/data/Map.h"
 #include "tkgslam/dynamic/BoxTracker.h"
+#include "tkgslam/dynamic/DynamicFilter.h"
 #include "tkgslam/dynamic/YoloDetector.h"
 #include "tkgslam/feature/OrbExtractor.h"
 #include "tkgslam/io/PlyWriter.h"
@@ -92,6 +94,13 @@ class SlamSystem {
   TimingStats timing_;
   int frames_ = 0;
 
+  /// Detector output -> boxes -> excluded keypoints; returns the geometry step for the tracker
+  /// (empty unless the mode has it and the boxes cover at least tau of the image).
+  tracking::RefineKeypoints filterDynamic(const io::RgbdImages& images,
+                                          std::future<std::pair<std::vector<dynamic::Detection>, double>>& detection,
+                                          bool detector_ran, data::FrameFeatures& features, dynamic::BoxMask& box_mask,
+                                          DynamicFrameInfo& info);
+  void scoreAgainstTruth(const cv::Mat& truth, const data::FrameFeatures& features);
   /// Boxes for this frame from the detector (run on its own thread) and the box tracker.
   std::vector<dynamic::Detection> boxesFor(const std::vector<dynamic::Detection>& detections, bool detector_ran,
                                            cv::Size image);
