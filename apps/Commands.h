@@ -12,5 +12,6 @@ Action addEvalCommand(CLI::App& app);
 Action addRunCommand(CLI::App& app);
 Action addDetectCommand(CLI::App& app);
 Action addAugmentCommand(CLI::App& app);
+Action addReportCommand(CLI::App& app);
 
 }  // namespace tkgslam::app

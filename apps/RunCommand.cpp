@@ -12,6 +12,7 @@
 #include "tkgslam/io/ConfigFile.h"
 #include "tkgslam/io/TrajectoryFile.h"
 #include "tkgslam/io/TumDataset.h"
+#include "tkgslam/report/HtmlReport.h"
 #include "tkgslam/system/SlamSystem.h"
 
 namespace tkgslam::app {
@@ -22,6 +23,7 @@ struct RunOptions {
   std::string config, dataset, out, mode, debug_dynamic;
   bool deterministic = false;
   bool quiet = false;
+  bool report = false;
   int max_frames = 0;
   int loops = 1;
 };
@@ -98,6 +100,8 @@ int runSlam(const RunOptions& o) {
   io::writePly((out / "map.ply").string(), slam.mapPoints());
   writeText(out / "timing.json", slam.timing().toJson() + "\n");
   if (!o.debug_dynamic.empty()) writeDynamicDebug(o.debug_dynamic, slam.dynamicInfo());
+  if (config.dynamic.mode != DynamicMode::Orb) writeDynamicDebug((out / "dynamic.jsonl").string(), slam.dynamicInfo());
+  std::filesystem::copy_file(o.config, out / "config_used.yaml", std::filesystem::copy_options::overwrite_existing);
   if (const auto& c = slam.classification(); c.frames > 0) {
     writeText(out / "dynamic_eval.json",
               fmt::format("{{\"frames\": {}, \"true_positive\": {}, \"false_positive\": {}, \"false_negative\": {}, "
@@ -123,6 +127,16 @@ int runSlam(const RunOptions& o) {
   }
 
   const double ratio = n > 0 ? double(traj.size()) / n : 0.0;
+  writeText(out / "run.json",
+            fmt::format("{{\"dataset\": \"{}\", \"config\": \"{}\", \"mode\": \"{}\", \"deterministic\": {}, "
+                        "\"frames\": {}, \"tracked\": {}, \"tracked_ratio\": {:.4f}, \"skipped\": {}, \"keyframes\": {}, "
+                        "\"map_points\": {}, \"mean_ms_per_frame\": {:.2f}, \"median_ms_per_frame\": {:.2f}, "
+                        "\"ratio_threshold\": {}}}\n",
+                        std::filesystem::absolute(o.dataset).lexically_normal().string(),
+                        std::filesystem::absolute(o.config).lexically_normal().string(), toString(config.dynamic.mode),
+                        config.deterministic ? "true" : "false", n, traj.size(), ratio, skipped, slam.keyFrameCount(),
+                        slam.mapPointCount(), slam.timing().mean("total"), slam.timing().median("total"),
+                        config.dynamic.geometry.ratio_threshold));
   std::printf("frames %d, tracked %zu (%.2f %%), skipped %d, keyframes %zu, map points %zu\n", n, traj.size(),
               100.0 * ratio, skipped, slam.keyFrameCount(), slam.mapPointCount());
   std::printf("time per frame: mean %.1f ms, median %.1f ms (ORB+tracking median %.1f ms)\n",
@@ -138,7 +152,8 @@ int runSlam(const RunOptions& o) {
     const auto ate = eval::computeAte(io::readTumTrajectory(*gt_path), est);
     std::printf("ATE RMSE %.4f m (%d poses)\n", ate.stats.rmse, ate.stats.count);
   }
-  std::printf("outputs: %s/{trajectory.txt, keyframes.txt, map.ply, timing.json}\n", o.out.c_str());
+  if (o.report) std::printf("report: %s\n", report::writeHtmlReport(o.out).c_str());
+  std::printf("outputs: %s/{trajectory.txt, keyframes.txt, map.ply, timing.json, run.json}\n", o.out.c_str());
   return 0;
 }
 
@@ -155,10 +170,21 @@ Action addRunCommand(CLI::App& app) {
   cmd->add_option("--max-frames", o->max_frames, "Process only the first N frames")->check(CLI::NonNegativeNumber);
   cmd->add_option("--loops", o->loops, "Play the sequence N times (soak test)")->check(CLI::PositiveNumber);
   cmd->add_flag("-q,--quiet", o->quiet, "No progress lines");
+  cmd->add_flag("--report", o->report, "Also write OUT/report.html (plots, 3-D view, timings)");
   cmd->add_option("--mode", o->mode, "Dynamic handling: orb, T, TK, TG or TKG (overrides dynamic.mode)");
   cmd->add_option("--debug-dynamic", o->debug_dynamic,
                   "Write per-frame boxes, T and dropped keypoints as JSON lines to this file");
   return [o] { return runSlam(*o); };
+}
+
+Action addReportCommand(CLI::App& app) {
+  auto dir = std::make_shared<std::string>();
+  auto* cmd = app.add_subcommand("report", "Write OUTDIR/report.html for the output folder of a run");
+  cmd->add_option("outdir", *dir, "Output folder of `tkgslam run`")->required();
+  return [dir] {
+    std::printf("report: %s\n", report::writeHtmlReport(*dir).c_str());
+    return 0;
+  };
 }
 
 }  // namespace tkgslam::app

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   add(tkgslam::app::addEvalCommand);
   add(tkgslam::app::addDetectCommand);
   add(tkgslam::app::addAugmentCommand);
+  add(tkgslam::app::addReportCommand);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

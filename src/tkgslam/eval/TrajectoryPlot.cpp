@@ -18,15 +18,16 @@ std::string errorColour(double e, double max_e) {
 }
 }  // namespace
 
-std::string renderTrajectorySvg(const AteResult& ate, const std::string& title) {
+std::string renderTrajectorySvg(const AteResult& ate, const std::string& title, int ah, int av) {
+  static const char* kAxis = "xyz";
   const int W = 720, H = 620, M = 60;
   double min_x = 1e300, max_x = -1e300, min_y = 1e300, max_y = -1e300;
   for (const auto* pts : {&ate.gt_positions, &ate.est_aligned}) {
     for (const auto& p : *pts) {
-      min_x = std::min(min_x, p.x());
-      max_x = std::max(max_x, p.x());
-      min_y = std::min(min_y, p.y());
-      max_y = std::max(max_y, p.y());
+      min_x = std::min(min_x, p[ah]);
+      max_x = std::max(max_x, p[ah]);
+      min_y = std::min(min_y, p[av]);
+      max_y = std::max(max_y, p[av]);
     }
   }
   const double span = std::max({max_x - min_x, max_y - min_y, 1e-6});
@@ -39,20 +40,20 @@ std::string renderTrajectorySvg(const AteResult& ate, const std::string& title) 
       "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
       "<text x=\"{}\" y=\"24\" font-family=\"sans-serif\" font-size=\"16\">{}</text>\n"
       "<text x=\"{}\" y=\"44\" font-family=\"sans-serif\" font-size=\"12\">ATE RMSE {:.4f} m over {} "
-      "poses; top view (x right, y up), scale bar {:.3f} m</text>\n",
-      W, H, W, H, M, title, M, ate.stats.rmse, ate.stats.count, span / 4);
+      "poses; {} right, {} up; scale bar {:.3f} m</text>\n",
+      W, H, W, H, M, title, M, ate.stats.rmse, ate.stats.count, kAxis[ah], kAxis[av], span / 4);
   svg += fmt::format("<line x1=\"{}\" y1=\"{}\" x2=\"{:.1f}\" y2=\"{}\" stroke=\"black\" stroke-width=\"2\"/>\n",
                      M, H - 20, M + span / 4 * scale, H - 20);
   std::string gt_path;
   for (size_t i = 0; i < ate.gt_positions.size(); ++i) {
-    gt_path += fmt::format("{}{:.2f},{:.2f} ", i ? "L" : "M", X(ate.gt_positions[i].x()), Y(ate.gt_positions[i].y()));
+    gt_path += fmt::format("{}{:.2f},{:.2f} ", i ? "L" : "M", X(ate.gt_positions[i][ah]), Y(ate.gt_positions[i][av]));
   }
   svg += fmt::format("<path d=\"{}\" fill=\"none\" stroke=\"black\" stroke-width=\"1.5\"/>\n", gt_path);
   for (size_t i = 1; i < ate.est_aligned.size(); ++i) {
     const auto& a = ate.est_aligned[i - 1];
     const auto& b = ate.est_aligned[i];
     svg += fmt::format("<line x1=\"{:.2f}\" y1=\"{:.2f}\" x2=\"{:.2f}\" y2=\"{:.2f}\" stroke=\"{}\" stroke-width=\"2\"/>\n",
-                       X(a.x()), Y(a.y()), X(b.x()), Y(b.y()), errorColour(ate.errors[i], ate.stats.max));
+                       X(a[ah]), Y(a[av]), X(b[ah]), Y(b[av]), errorColour(ate.errors[i], ate.stats.max));
   }
   svg += fmt::format(
       "<g font-family=\"sans-serif\" font-size=\"12\"><line x1=\"{}\" y1=\"60\" x2=\"{}\" y2=\"60\" stroke=\"black\" "

@@ -1,0 +1,274 @@
+#include "tkgslam/report/HtmlReport.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "tkgslam/common/Error.h"
+#include "tkgslam/eval/Ate.h"
+#include "tkgslam/eval/Rpe.h"
+#include "tkgslam/eval/TrajectoryPlot.h"
+#include "tkgslam/io/TrajectoryFile.h"
+#include "tkgslam/io/TumDataset.h"
+#include "tkgslam/report/SvgPlot.h"
+#include "tkgslam/report/ViewerScript.h"
+
+namespace fs = std::filesystem;
+
+namespace tkgslam::report {
+
+namespace {
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// Value of a flat JSON key written by `tkgslam run` (strings and numbers only).
+std::string jsonValue(const std::string& json, const std::string& key) {
+  const std::regex re("\"" + key + "\":\\s*(\"([^\"]*)\"|[-0-9.eE+]+|true|false)");
+  std::smatch m;
+  if (!std::regex_search(json, m, re)) return "";
+  return m[2].matched ? m[2].str() : m[1].str();
+}
+
+std::string base64(const std::vector<uchar>& data) {
+  static const char* tbl = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  size_t i = 0;
+  for (; i + 2 < data.size(); i += 3) {
+    const unsigned v = (data[i] << 16) | (data[i + 1] << 8) | data[i + 2];
+    out += {tbl[v >> 18], tbl[(v >> 12) & 63], tbl[(v >> 6) & 63], tbl[v & 63]};
+  }
+  if (i + 1 == data.size()) {
+    const unsigned v = data[i] << 16;
+    out += {tbl[v >> 18], tbl[(v >> 12) & 63], '=', '='};
+  } else if (i + 2 == data.size()) {
+    const unsigned v = (data[i] << 16) | (data[i + 1] << 8);
+    out += {tbl[v >> 18], tbl[(v >> 12) & 63], tbl[(v >> 6) & 63], '='};
+  }
+  return out;
+}
+
+struct PlyPoint {
+  float x, y, z;
+  int r, g, b;
+};
+
+std::vector<PlyPoint> readPly(const fs::path& p) {
+  std::ifstream in(p);
+  std::string line;
+  std::vector<PlyPoint> pts;
+  bool body = false;
+  while (std::getline(in, line)) {
+    if (!body) {
+      body = line == "end_header";
+      continue;
+    }
+    std::istringstream ls(line);
+    PlyPoint q;
+    if (ls >> q.x >> q.y >> q.z >> q.r >> q.g >> q.b) pts.push_back(q);
+  }
+  return pts;
+}
+
+struct DynamicLine {
+  double timestamp = 0, ratio = 0;
+  int detected = 0, predicted = 0, dropped = 0;
+  std::vector<std::pair<cv::Rect, bool>> boxes;  // box, predicted
+};
+
+std::vector<DynamicLine> readDynamic(const fs::path& p) {
+  std::vector<DynamicLine> out;
+  std::ifstream in(p);
+  std::string line;
+  static const std::regex box_re(
+      "\\{\"x\": ([-0-9.]+), \"y\": ([-0-9.]+), \"w\": ([-0-9.]+), \"h\": ([-0-9.]+), \"class\": [0-9]+, "
+      "\"score\": [0-9.]+, \"predicted\": (true|false)");
+  while (std::getline(in, line)) {
+    DynamicLine d;
+    d.timestamp = std::stod(jsonValue(line, "timestamp"));
+    d.ratio = std::stod(jsonValue(line, "T"));
+    d.dropped = std::stoi(jsonValue(line, "dropped"));
+    for (auto it = std::sregex_iterator(line.begin(), line.end(), box_re); it != std::sregex_iterator(); ++it) {
+      const auto& m = *it;
+      const bool pred = m[5] == "true";
+      d.boxes.push_back({cv::Rect(int(std::stod(m[1])), int(std::stod(m[2])), int(std::stod(m[3])), int(std::stod(m[4]))), pred});
+      (pred ? d.predicted : d.detected)++;
+    }
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+std::string sceneJson(const std::vector<PlyPoint>& pts, const std::vector<io::TrajectoryEntry>& traj,
+                      const std::vector<io::TrajectoryEntry>& kfs) {
+  std::string s = "{\"points\": [";
+  const size_t step = std::max<size_t>(1, pts.size() / 20000);
+  bool first = true;
+  for (size_t i = 0; i < pts.size(); i += step) {
+    s += fmt::format("{}{:.3f},{:.3f},{:.3f},{},{},{}", first ? "" : ",", pts[i].x, pts[i].y, pts[i].z, pts[i].r,
+                     pts[i].g, pts[i].b);
+    first = false;
+  }
+  s += "], \"trajectory\": [";
+  for (size_t i = 0; i < traj.size(); ++i) {
+    s += fmt::format("{}{:.4f},{:.4f},{:.4f}", i ? "," : "", traj[i].t.x(), traj[i].t.y(), traj[i].t.z());
+  }
+  s += "], \"frustums\": [";
+  // Each keyframe: a small pyramid (camera centre to the four image corners at 5 cm).
+  for (size_t k = 0; k < kfs.size(); ++k) {
+    const Pose T = kfs[k].pose();
+    const double d = 0.05, w = 0.04, h = 0.03;
+    const Vec3 c = T.translation();
+    const Vec3 a = T * Vec3(-w, -h, d), b = T * Vec3(w, -h, d), e = T * Vec3(w, h, d), f = T * Vec3(-w, h, d);
+    std::string line;
+    for (const Vec3& p : {c, a, b, c, e, f, c, a, f, e, b}) line += fmt::format("{:.4f},{:.4f},{:.4f},", p.x(), p.y(), p.z());
+    line.pop_back();
+    s += fmt::format("{}[{}]", k ? "," : "", line);
+  }
+  return s + "]}";
+}
+
+}  // namespace
+
+std::string writeHtmlReport(const std::string& out_dir) {
+  const fs::path dir(out_dir);
+  if (!fs::is_regular_file(dir / "trajectory.txt") || !fs::is_regular_file(dir / "run.json")) {
+    throw InputError(fmt::format("'{}' is not the output folder of `tkgslam run` (no trajectory.txt / run.json)", out_dir));
+  }
+  const std::string run = slurp(dir / "run.json");
+  const auto traj = io::readTumTrajectory((dir / "trajectory.txt").string());
+  const auto kfs = fs::exists(dir / "keyframes.txt") ? io::readTumTrajectory((dir / "keyframes.txt").string())
+                                                      : std::vector<io::TrajectoryEntry>{};
+  const auto pts = readPly(dir / "map.ply");
+  const std::string dataset = jsonValue(run, "dataset");
+  const std::string mode = jsonValue(run, "mode");
+
+  std::string html = "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>tkgslam report</title><style>"
+                     "body{font-family:sans-serif;margin:24px;max-width:1200px;color:#222}"
+                     "h2{border-bottom:1px solid #ccc;padding-bottom:4px;margin-top:28px}"
+                     "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 10px;text-align:left}"
+                     ".row{display:flex;flex-wrap:wrap;gap:12px}pre{background:#f6f6f6;padding:10px;overflow:auto}"
+                     ".traj svg{width:540px;height:auto}canvas{border:1px solid #999;cursor:grab}.thumbs img{margin:2px;border:1px solid #999}"
+                     "</style><script>window.onerror=function(m){document.title='tkgslam report ERROR: '+m;};</script>"
+                     "</head><body>";
+  html += fmt::format("<h1>tkgslam run report</h1><p>Sequence <code>{}</code>, dynamic mode <b>{}</b>.</p>",
+                      escapeXml(dataset), escapeXml(mode));
+  html += "<h2>Summary</h2><table>";
+  for (const char* k : {"frames", "tracked", "tracked_ratio", "skipped", "keyframes", "map_points", "mean_ms_per_frame",
+                        "median_ms_per_frame"}) {
+    html += fmt::format("<tr><th>{}</th><td>{}</td></tr>", k, escapeXml(jsonValue(run, k)));
+  }
+
+  // Accuracy against the ground truth, when the dataset has it.
+  const fs::path gt_path = fs::path(dataset) / "groundtruth.txt";
+  if (!dataset.empty() && fs::is_regular_file(gt_path) && traj.size() >= 2) {
+    const auto gt = io::readTumTrajectory(gt_path.string());
+    const auto ate = eval::computeAte(gt, traj);
+    html += fmt::format("<tr><th>ATE RMSE</th><td>{:.4f} m ({} poses)</td></tr>", ate.stats.rmse, ate.stats.count);
+    std::string rpe_section;
+    try {
+      const auto rpe = eval::computeRpe(gt, traj, 1.0);
+      html += fmt::format("<tr><th>RPE RMSE (1 s)</th><td>{:.4f} m, {:.3f} deg</td></tr>", rpe.translation.rmse,
+                          rpe.rotation_deg.rmse);
+      Series s{"translational RPE (m)", "#d62728", {}, rpe.translation_errors};
+      for (double t : rpe.timestamps) s.x.push_back(t - traj.front().timestamp);
+      rpe_section = svgLinePlot("RPE over time (1 s)", "time (s)", "m", {s});
+    } catch (const InputError&) {
+      rpe_section = "<p>RPE: the trajectory is shorter than 1 s.</p>";
+    }
+    html += "</table><h2>Trajectory vs ground truth</h2><div class=\"row traj\">";
+    html += eval::renderTrajectorySvg(ate, "top view", 0, 1);
+    html += eval::renderTrajectorySvg(ate, "side view", 0, 2);
+    Series err{"ATE error (m)", "#1f77b4", {}, ate.errors};
+    for (double t : ate.timestamps) err.x.push_back(t - ate.timestamps.front());
+    html += "</div><div class=\"row\">" + svgLinePlot("ATE error over time", "time (s)", "m", {err}) + rpe_section + "</div>";
+  } else {
+    html += "</table><p>No ground truth: accuracy plots omitted.</p>";
+  }
+
+  // Timings.
+  const std::string timing = slurp(dir / "timing.json");
+  std::vector<std::pair<std::string, double>> bars;
+  static const std::regex stage_re("\"([a-z_]+)\": \\{\"count\": [0-9]+, \"mean_ms\": ([0-9.]+)");
+  for (auto it = std::sregex_iterator(timing.begin(), timing.end(), stage_re); it != std::sregex_iterator(); ++it) {
+    bars.emplace_back((*it)[1], std::stod((*it)[2]));
+  }
+  html += "<h2>Time per frame</h2>" + svgBarChart("mean per stage (detector: per run)", bars, "ms");
+
+  // 3-D view.
+  html += "<h2>3-D map</h2><p>Map points coloured by height, keyframes (yellow), trajectory (red). Drag to orbit, "
+          "wheel to zoom.</p><canvas id=\"view3d\" width=\"900\" height=\"560\"></canvas>";
+  html += "<script id=\"scene\" type=\"application/json\">" + sceneJson(pts, traj, kfs) + "</script>";
+
+  // Dynamic objects.
+  if (fs::is_regular_file(dir / "dynamic.jsonl")) {
+    const auto dyn = readDynamic(dir / "dynamic.jsonl");
+    if (!dyn.empty()) {
+      Series ratio{"T (box area / image)", "#9467bd", {}, {}}, tau{"tau", "#999", {}, {}};
+      Series det{"detected", "#1f77b4", {}, {}}, pred{"Kalman-filled", "#ff7f0e", {}, {}};
+      Series drop{"dropped keypoints", "#2ca02c", {}, {}};
+      for (const auto& d : dyn) {
+        const double t = d.timestamp - dyn.front().timestamp;
+        ratio.x.push_back(t), ratio.y.push_back(d.ratio);
+        det.x.push_back(t), det.y.push_back(d.detected);
+        pred.x.push_back(t), pred.y.push_back(d.predicted);
+        drop.x.push_back(t), drop.y.push_back(d.dropped);
+      }
+      const double tau_value = std::stod(jsonValue(run, "ratio_threshold").empty() ? "0.7" : jsonValue(run, "ratio_threshold"));
+      tau.x = {0.0, ratio.x.back()};
+      tau.y = {tau_value, tau_value};
+      html += "<h2>Dynamic objects</h2><div class=\"row\">" + svgLinePlot("ratio T over time", "time (s)", "T", {ratio, tau}) +
+              svgLinePlot("boxes per frame", "time (s)", "boxes", {det, pred}) +
+              svgLinePlot("keypoints dropped per frame", "time (s)", "keypoints", {drop}) + "</div>";
+      // Thumbnails with boxes (red detected, orange Kalman-filled).
+      if (fs::is_directory(dataset)) {
+        try {
+          io::TumDataset ds(dataset);
+          std::map<long long, const DynamicLine*> by_stamp;
+          for (const auto& d : dyn) by_stamp[std::llround(d.timestamp * 1e6)] = &d;
+          html += "<div class=\"thumbs\">";
+          const int n = std::min(ds.size(), int(dyn.size()));
+          for (int k = 0; k < 8 && n > 0; ++k) {
+            const int i = int((long long)k * (n - 1) / 7);
+            auto img = ds.load(i);
+            auto it = by_stamp.find(std::llround(img.timestamp * 1e6));
+            if (it != by_stamp.end()) {
+              for (const auto& [box, predicted] : it->second->boxes) {
+                cv::rectangle(img.bgr, box, predicted ? cv::Scalar(0, 165, 255) : cv::Scalar(0, 0, 255), 3);
+              }
+            }
+            cv::Mat small;
+            cv::resize(img.bgr, small, cv::Size(200, 150), 0, 0, cv::INTER_AREA);
+            std::vector<uchar> jpg;
+            cv::imencode(".jpg", small, jpg, {cv::IMWRITE_JPEG_QUALITY, 80});
+            html += fmt::format("<img width=\"200\" height=\"150\" title=\"{:.3f}\" src=\"data:image/jpeg;base64,{}\">",
+                                img.timestamp, base64(jpg));
+          }
+          html += "</div><p>Red: detected boxes; orange: filled in by the Kalman tracker.</p>";
+        } catch (const InputError& e) {
+          html += fmt::format("<p>Thumbnails unavailable: {}</p>", escapeXml(e.what()));
+        }
+      }
+    }
+  }
+  html += "<h2>Configuration</h2><pre>" + escapeXml(slurp(dir / "config_used.yaml")) + "</pre>";
+  html += std::string("<script>") + kViewerScript + "document.title='tkgslam report ready';</script></body></html>\n";
+  const auto path = (dir / "report.html").string();
+  std::ofstream out(path);
+  if (!out) throw InputError(fmt::format("cannot write '{}'", path));
+  out << html;
+  return path;
+}
+
+}  // namespace tkgslam::report
