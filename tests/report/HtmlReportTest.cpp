@@ -57,6 +57,7 @@ TEST(HtmlReport, RendersInHeadlessChromium) {
   const auto at = dom.find("data-drawn-pixels=\"");
   ASSERT_NE(at, std::string::npos) << "3-D canvas not drawn";
   EXPECT_GT(std::stol(dom.substr(at + 19)), 500) << "3-D canvas is blank";
+  EXPECT_NE(dom.find("data-renderer=\"webgl\""), std::string::npos) << "the 3-D view did not use WebGL";
   int plots = 0;
   for (size_t p = dom.find("<svg class=\"plot\""); p != std::string::npos; p = dom.find("<svg class=\"plot\"", p + 1)) ++plots;
   EXPECT_GE(plots, 5);  // error, RPE, timing, T, boxes, dropped
