@@ -1,4 +1,6 @@
 // tkgslam run: SLAM on a TUM-layout RGB-D sequence; writes trajectory, keyframes, map, timings.
+#include <atomic>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -27,6 +29,9 @@ struct RunOptions {
   int max_frames = 0;
   int loops = 1;
 };
+
+std::atomic<bool> g_interrupted{false};
+extern "C" void onInterrupt(int) { g_interrupted = true; }
 
 void writeText(const std::filesystem::path& p, const std::string& text) {
   std::ofstream out(p);
@@ -71,26 +76,48 @@ int runSlam(const RunOptions& o) {
   const std::filesystem::path out(o.out);
 
   SlamSystem slam(config);
-  const int n = o.max_frames > 0 ? std::min(o.max_frames, dataset.size()) : dataset.size();
+  int n = o.max_frames > 0 ? std::min(o.max_frames, dataset.size()) : dataset.size();
   std::printf("tkgslam run: %d frames from %s (%s, dynamic mode %s)\n", n, o.dataset.c_str(),
               config.deterministic ? "deterministic" : "threaded", toString(config.dynamic.mode));
-  int skipped = 0;
-  for (int i = 0; i < n; ++i) {
+  int skipped = 0, lost = 0, processed = 0;
+  // Frames that produced no pose, and why: "timestamp status reason".
+  std::ofstream frame_log(out / "frame_log.txt");
+  frame_log << "# frames without a pose: timestamp status reason\n";
+  // Ctrl-C stops after the current frame; everything computed so far is still written.
+  g_interrupted = false;
+  auto previous_handler = std::signal(SIGINT, onInterrupt);
+  for (int i = 0; i < n && !g_interrupted; ++i) {
     io::RgbdImages images;
     try {
       images = dataset.load(i);
     } catch (const InputError& e) {
       // A bad frame in the middle of a run is skipped, not fatal.
       spdlog::warn("frame {} skipped: {}", i, e.what());
+      frame_log << fmt::format("{:.6f} skipped {}\n", dataset.timestamp(i), e.what());
       ++skipped;
       continue;
     }
-    slam.processFrame(images);
+    ++processed;
+    const auto result = slam.processFrame(images);
+    if (!result.tracked) {
+      ++lost;
+      frame_log << fmt::format("{:.6f} {} {}\n", images.timestamp,
+                               slam.state() == tracking::TrackingState::NotInitialized ? "not_initialised" : "lost",
+                               slam.state() == tracking::TrackingState::NotInitialized
+                                   ? "too few keypoints with depth to start a map"
+                                   : "too few matches to track or relocalise");
+    }
+    if (result.new_segment) frame_log << fmt::format("{:.6f} new_segment a new map segment starts here\n", images.timestamp);
     if (!o.quiet && ((i + 1) % 50 == 0 || i + 1 == n)) {
       std::fprintf(stderr, "  frame %4d/%d  tracked %5.1f%%  keyframes %3zu  map points %5zu  %.1f ms/frame\n", i + 1,
                    n, 100.0 * slam.framesTracked() / std::max(1, slam.framesProcessed()), slam.keyFrameCount(),
                    slam.mapPointCount(), slam.timing().mean("total"));
     }
+  }
+  std::signal(SIGINT, previous_handler);
+  if (g_interrupted) {
+    n = processed + skipped;  // the summary covers the frames actually read
+    std::printf("interrupted after %d frames: writing what was computed\n", n);
   }
   slam.finish();
 
@@ -137,8 +164,9 @@ int runSlam(const RunOptions& o) {
                         config.deterministic ? "true" : "false", n, traj.size(), ratio, skipped, slam.keyFrameCount(),
                         slam.mapPointCount(), slam.timing().mean("total"), slam.timing().median("total"),
                         config.dynamic.geometry.ratio_threshold));
-  std::printf("frames %d, tracked %zu (%.2f %%), skipped %d, keyframes %zu, map points %zu\n", n, traj.size(),
-              100.0 * ratio, skipped, slam.keyFrameCount(), slam.mapPointCount());
+  std::printf("frames %d, tracked %zu (%.2f %%), skipped %d (unreadable), lost %d, keyframes %zu, map points %zu%s\n",
+              n, traj.size(), 100.0 * ratio, skipped, lost, slam.keyFrameCount(), slam.mapPointCount(),
+              skipped + lost > 0 ? " - see frame_log.txt" : "");
   std::printf("time per frame: mean %.1f ms, median %.1f ms (ORB+tracking median %.1f ms)\n",
               slam.timing().mean("total"), slam.timing().median("total"), slam.timing().median("orb_and_tracking"));
   if (const auto gt_path = dataset.groundTruthPath(); gt_path && traj.size() >= 2 && o.loops == 1) {
@@ -153,8 +181,9 @@ int runSlam(const RunOptions& o) {
     std::printf("ATE RMSE %.4f m (%d poses)\n", ate.stats.rmse, ate.stats.count);
   }
   if (o.report) std::printf("report: %s\n", report::writeHtmlReport(o.out).c_str());
-  std::printf("outputs: %s/{trajectory.txt, keyframes.txt, map.ply, timing.json, run.json}\n", o.out.c_str());
-  return 0;
+  std::printf("outputs: %s/{trajectory.txt, keyframes.txt, map.ply, timing.json, run.json, frame_log.txt}\n",
+              o.out.c_str());
+  return g_interrupted ? 130 : 0;
 }
 
 }  // namespace

@@ -87,8 +87,10 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
   has_velocity_ = false;
   ++lost_frames_;
   temporal_points_.clear();
-  if (lost_frames_ > cfg_.tracking.relocalization_attempts) {
-    // Relocalisation keeps failing: start a new map segment where the camera was last seen.
+  if (lost_frames_ > cfg_.tracking.relocalization_attempts && canInitialize(frame)) {
+    // Relocalisation keeps failing on a frame good enough to start a map: start a new map segment
+    // where the camera was last seen. (On frames too poor to start one - the camera covered, no
+    // depth - the old map is kept for relocalisation.)
     frame.T_cw = last_frame_->T_cw;
     spdlog::warn("tracking lost for {} frames; starting a new map segment at frame {}", lost_frames_, frame.id);
     map_.clearActive();
@@ -101,7 +103,7 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
   return result;
 }
 
-bool Tracker::initialize(Frame& frame, bool new_segment) {
+bool Tracker::canInitialize(const Frame& frame) const {
   const auto& F = *frame.features;
   int with_depth = 0, usable = 0;
   for (int i = 0; i < frame.size(); ++i) {
@@ -110,7 +112,12 @@ bool Tracker::initialize(Frame& frame, bool new_segment) {
   }
   // As ORB-SLAM2: enough keypoints with depth; of them, those off dynamic objects must still
   // be a fair number (a person may fill most of the first frame).
-  if (with_depth < cfg_.tracking.min_init_features || usable < cfg_.tracking.min_init_features / 5) return false;
+  return with_depth >= cfg_.tracking.min_init_features && usable >= cfg_.tracking.min_init_features / 5;
+}
+
+bool Tracker::initialize(Frame& frame, bool new_segment) {
+  if (!canInitialize(frame)) return false;
+  const auto& F = *frame.features;
   if (!new_segment) frame.T_cw = Pose::Identity();
   auto kf = std::make_shared<KeyFrame>(map_.newKeyFrameId(), frame.id, frame.timestamp, frame.features, frame.T_cw);
   for (int i = 0; i < frame.size(); ++i) {

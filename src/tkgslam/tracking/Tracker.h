@@ -56,6 +56,7 @@ class Tracker {
   const data::Frame* lastFrame() const { return last_frame_.get(); }
 
  private:
+  bool canInitialize(const data::Frame& frame) const;
   bool initialize(data::Frame& frame, bool new_segment);
   bool trackWithMotionModel(data::Frame& frame);
   bool trackReferenceKeyFrame(data::Frame& frame);
