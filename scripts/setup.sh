@@ -11,6 +11,6 @@ if [ ! -d "$SEQ" ]; then
   exit 0
 fi
 OUT="out/fr1_xyz"
-./build/bin/tkgslam run --config configs/tum_fr1.yaml --dataset "$SEQ" --out "$OUT"
+./build/bin/tkgslam run --config configs/tum_fr1.yaml --dataset "$SEQ" --out "$OUT" --report
 ./build/bin/tkgslam eval "$SEQ/groundtruth.txt" "$OUT/trajectory.txt" --frames "$SEQ" --plot "$OUT/trajectory.svg"
-echo "Outputs in $OUT: trajectory.txt keyframes.txt map.ply timing.json trajectory.svg"
+echo "Outputs in $OUT: report.html trajectory.txt keyframes.txt map.ply timing.json trajectory.svg"

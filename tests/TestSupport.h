@@ -44,6 +44,12 @@ class TempDir {
   std::filesystem::path path_;
 };
 
+/// Whole file as a string (binary-safe); empty if it cannot be read.
+inline std::string readFile(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
 inline void writeText(const std::filesystem::path& p, const std::string& text) {
   std::filesystem::create_directories(p.parent_path());
   std::ofstream(p) << text;

@@ -48,8 +48,7 @@ TEST(CompositeSequence, TkgStaysCloseToTheStaticOriginalWhileOrbSuffers) {
   EXPECT_GE(ate_orb, 2.0 * ate_tkg) << "orb " << ate_orb << " TKG " << ate_tkg << ": composite not dynamic enough";
   EXPECT_GE(io::readTumTrajectory((tmp / "tkg" / "trajectory.txt").string()).size(), 145u);
   // The run scores its keypoint classification against the composite's truth masks.
-  std::ifstream dyn(tmp / "tkg" / "dynamic_eval.json");
-  const std::string d((std::istreambuf_iterator<char>(dyn)), std::istreambuf_iterator<char>());
+  const std::string d = test::readFile(tmp / "tkg" / "dynamic_eval.json");
   const auto at = d.find("\"recall\": ");
   ASSERT_NE(at, std::string::npos) << d;
   EXPECT_GT(std::stod(d.substr(at + 10)), 0.6) << d;
@@ -64,15 +63,11 @@ TEST(CompositeSequence, SameSeedSameSequence) {
   std::string out;
   ASSERT_EQ(test::runCli(common + (tmp / "a").string(), &out), 0) << out;
   ASSERT_EQ(test::runCli(common + (tmp / "b").string(), &out), 0) << out;
-  auto slurp = [](const std::filesystem::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  };
-  EXPECT_EQ(slurp(tmp / "a" / "boxes.txt"), slurp(tmp / "b" / "boxes.txt"));
+  EXPECT_EQ(test::readFile(tmp / "a" / "boxes.txt"), test::readFile(tmp / "b" / "boxes.txt"));
   for (const auto& e : std::filesystem::directory_iterator(tmp / "a" / "rgb")) {
-    EXPECT_EQ(slurp(e.path()), slurp(tmp / "b" / "rgb" / e.path().filename())) << e.path();
+    EXPECT_EQ(test::readFile(e.path()), test::readFile(tmp / "b" / "rgb" / e.path().filename())) << e.path();
   }
-  EXPECT_GT(slurp(tmp / "a" / "boxes.txt").size(), 100u);
+  EXPECT_GT(test::readFile(tmp / "a" / "boxes.txt").size(), 100u);
 }
 
 }  // namespace

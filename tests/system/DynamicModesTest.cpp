@@ -47,8 +47,7 @@ TEST(DynamicModes, TkgDoesNoHarmOnTheStaticSequence) {
   }
   EXPECT_GE(lines, 790);
   EXPECT_GT(with_person, 100);
-  std::ifstream timing(tmp / "tkg" / "timing.json");
-  const std::string t((std::istreambuf_iterator<char>(timing)), std::istreambuf_iterator<char>());
+  const std::string t = test::readFile(tmp / "tkg" / "timing.json");
   EXPECT_NE(t.find("\"detector\""), std::string::npos);
   EXPECT_NE(t.find("\"box_tracker\""), std::string::npos);
 }

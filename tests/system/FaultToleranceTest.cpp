@@ -20,11 +20,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 TEST(FaultTolerance, BadFramesMidRunAreSkippedReportedAndTrackingRecovers) {
   TKGSLAM_REQUIRE_SHARED();
   test::TempDir tmp;
@@ -48,7 +43,7 @@ TEST(FaultTolerance, BadFramesMidRunAreSkippedReportedAndTrackingRecovers) {
       fs::copy_file(e.rgb_path, rgb);
     }
     if (i == 30) {
-      test::writeText(depth, slurp(e.depth_path).substr(0, 200));  // truncated PNG
+      test::writeText(depth, test::readFile(e.depth_path).substr(0, 200));  // truncated PNG
       skipped_stamps.push_back(e.rgb_timestamp);
     } else if (i >= 45 && i < 50) {
       cv::imwrite(depth.string(), cv::Mat::zeros(480, 640, CV_16UC1));  // no depth at all
@@ -70,7 +65,7 @@ TEST(FaultTolerance, BadFramesMidRunAreSkippedReportedAndTrackingRecovers) {
             0)
       << out;
   EXPECT_NE(out.find("skipped 3 (unreadable)"), std::string::npos) << out;
-  const std::string log = slurp(res / "frame_log.txt");
+  const std::string log = test::readFile(res / "frame_log.txt");
   for (double t : skipped_stamps) EXPECT_NE(log.find(fmt::format("{:.6f} skipped", t)), std::string::npos) << log;
   EXPECT_NE(log.find("cannot read"), std::string::npos) << log;
   EXPECT_NE(log.find(" lost "), std::string::npos) << "the black frames are reported lost: " << log;
@@ -92,8 +87,8 @@ TEST(FaultTolerance, InterruptWritesTheOutputsComputedSoFar) {
                           " -o " + (tmp / "out").string() + " > " + (tmp / "log.txt").string() + " 2>&1";
   const int status = std::system(cmd.c_str());
   ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 130) << slurp(tmp / "log.txt");
-  EXPECT_NE(slurp(tmp / "log.txt").find("interrupted after"), std::string::npos) << slurp(tmp / "log.txt");
+  EXPECT_EQ(WEXITSTATUS(status), 130) << test::readFile(tmp / "log.txt");
+  EXPECT_NE(test::readFile(tmp / "log.txt").find("interrupted after"), std::string::npos) << test::readFile(tmp / "log.txt");
   const auto traj = io::readTumTrajectory((tmp / "out" / "trajectory.txt").string());
   EXPECT_GT(traj.size(), 20u);
   EXPECT_LT(traj.size(), 790u);

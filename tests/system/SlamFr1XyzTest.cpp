@@ -12,13 +12,6 @@
 namespace tkgslam {
 namespace {
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 TEST(SlamFr1Xyz, AccurateCompleteAndDeterministic) {
   TKGSLAM_REQUIRE_SHARED();
   test::TempDir tmp;
@@ -28,8 +21,8 @@ TEST(SlamFr1Xyz, AccurateCompleteAndDeterministic) {
   ASSERT_EQ(test::runCli(common + (tmp / "a").string(), &out), 0) << out;
   ASSERT_EQ(test::runCli(common + (tmp / "b").string(), &out), 0) << out;
 
-  const auto traj = slurp(tmp / "a" / "trajectory.txt");
-  EXPECT_EQ(traj, slurp(tmp / "b" / "trajectory.txt")) << "deterministic mode gave different trajectories";
+  const auto traj = test::readFile(tmp / "a" / "trajectory.txt");
+  EXPECT_EQ(traj, test::readFile(tmp / "b" / "trajectory.txt")) << "deterministic mode gave different trajectories";
 
   const auto est = io::readTumTrajectory((tmp / "a" / "trajectory.txt").string());
   const auto gt = io::readTumTrajectory((test::fr1xyz() / "groundtruth.txt").string());
@@ -40,8 +33,8 @@ TEST(SlamFr1Xyz, AccurateCompleteAndDeterministic) {
   EXPECT_GE(tracked, 0.98);
   // The other outputs exist and are non-trivial.
   EXPECT_GT(io::readTumTrajectory((tmp / "a" / "keyframes.txt").string()).size(), 10u);
-  EXPECT_NE(slurp(tmp / "a" / "map.ply").find("element vertex"), std::string::npos);
-  EXPECT_NE(slurp(tmp / "a" / "timing.json").find("\"orb_and_tracking\""), std::string::npos);
+  EXPECT_NE(test::readFile(tmp / "a" / "map.ply").find("element vertex"), std::string::npos);
+  EXPECT_NE(test::readFile(tmp / "a" / "timing.json").find("\"orb_and_tracking\""), std::string::npos);
   EXPECT_NE(out.find("ATE RMSE"), std::string::npos) << out;
 }
 
