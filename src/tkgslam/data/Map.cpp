@@ -73,11 +73,6 @@ void Map::eraseKeyFrame(KeyFrame* kf) {
   keyframes_.erase(kf->id);
 }
 
-std::shared_ptr<MapPoint> Map::mapPoint(long id) const {
-  auto it = points_.find(id);
-  return it == points_.end() ? nullptr : it->second;
-}
-
 std::shared_ptr<KeyFrame> Map::keyFrame(long id) const {
   auto it = all_keyframes_.find(id);
   return it == all_keyframes_.end() ? nullptr : it->second;

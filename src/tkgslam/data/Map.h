@@ -30,7 +30,6 @@ class Map {
   /// Culls a keyframe: unlinks it from points, covisibility and the spanning tree.
   void eraseKeyFrame(KeyFrame* kf);
 
-  std::shared_ptr<MapPoint> mapPoint(long id) const;
   std::shared_ptr<KeyFrame> keyFrame(long id) const;
   /// Active keyframes / points, ordered by id.
   std::vector<std::shared_ptr<KeyFrame>> keyFrames() const;

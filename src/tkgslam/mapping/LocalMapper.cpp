@@ -10,9 +10,8 @@ using data::MapPoint;
 
 LocalMapper::LocalMapper(data::Map& map, const camera::PinholeCamera& camera, const feature::ScalePyramid& pyramid,
                          const SlamConfig& config)
-    : map_(map), cam_(camera), pyr_(pyramid), cfg_(config), matcher_(camera, pyramid, config.depth.baseline_fx) {
-  K_ = {camera.fx(), camera.fy(), camera.cx(), camera.cy(), config.depth.baseline_fx};
-}
+    : map_(map), cam_(camera), pyr_(pyramid), cfg_(config), matcher_(camera, pyramid, config.depth.baseline_fx),
+      K_(optimize::intrinsicsOf(camera.fx(), camera.fy(), camera.cx(), camera.cy(), config.depth.baseline_fx)) {}
 
 void LocalMapper::process(const std::shared_ptr<KeyFrame>& kf, bool more_pending) {
   {

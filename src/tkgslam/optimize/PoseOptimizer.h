@@ -21,6 +21,11 @@ struct PinholeIntrinsics {
   double bf;  ///< virtual stereo baseline * fx
 };
 
+/// The intrinsics the optimisers use, from the camera and the depth's virtual baseline.
+inline PinholeIntrinsics intrinsicsOf(double fx, double fy, double cx, double cy, double baseline_fx) {
+  return {fx, fy, cx, cy, baseline_fx};
+}
+
 struct PoseOptimizerOptions {
   int rounds = 4;
   int iterations = 10;

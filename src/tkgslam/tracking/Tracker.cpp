@@ -16,9 +16,8 @@ using data::MapPoint;
 
 Tracker::Tracker(data::Map& map, const camera::PinholeCamera& camera, const feature::ScalePyramid& pyramid,
                  const SlamConfig& config)
-    : map_(map), cam_(camera), pyr_(pyramid), cfg_(config), matcher_(camera, pyramid, config.depth.baseline_fx) {
-  K_ = {camera.fx(), camera.fy(), camera.cx(), camera.cy(), config.depth.baseline_fx};
-}
+    : map_(map), cam_(camera), pyr_(pyramid), cfg_(config), matcher_(camera, pyramid, config.depth.baseline_fx),
+      K_(optimize::intrinsicsOf(camera.fx(), camera.fy(), camera.cx(), camera.cy(), config.depth.baseline_fx)) {}
 
 TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, const RefineKeypoints& refine) {
   std::lock_guard<std::mutex> lock(map_.mutex());
