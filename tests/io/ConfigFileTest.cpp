@@ -52,5 +52,16 @@ TEST(ConfigFile, InvalidValuesAreClearErrors) {
   EXPECT_THROW(io::loadConfig("/nonexistent.yaml"), InputError);
 }
 
+// Found by fuzz_Config: a YAML complex key ("? ...") made yaml-cpp throw past the InputError net.
+TEST(ConfigFile, NonScalarKeysAndNonFiniteValuesAreClearErrors) {
+  EXPECT_NE(errorOf("camera: {width: 640, height: 480, fx: 500, fy: 500, cx: 320, cy: 240, ? [a]: 1}")
+                .find("not a plain word"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "? {x: 1}: 2").find("not a plain word"), std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {confidence: .nan}").find("must be finite"), std::string::npos);
+  EXPECT_NE(errorOf("camera: {width: 640, height: 480, fx: .inf, fy: 500, cx: 320, cy: 240}").find("must be finite"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace tkgslam

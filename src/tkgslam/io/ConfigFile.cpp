@@ -1,7 +1,9 @@
 #include "tkgslam/io/ConfigFile.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <type_traits>
 #include <set>
 #include <sstream>
 
@@ -13,6 +15,24 @@
 namespace tkgslam::io {
 
 namespace {
+
+// A mapping key as text. YAML allows any node as a key ("? [a, b]: 1"); ours are plain words.
+std::string keyName(const YAML::Node& key, const std::string& source, const std::string& where) {
+  if (!key.IsScalar()) throw InputError(fmt::format("{}: {} has a key that is not a plain word", source, where));
+  return key.Scalar();
+}
+
+template <typename T>
+bool isFinite(const T& value) {
+  if constexpr (std::is_floating_point_v<T>) {
+    return std::isfinite(value);
+  } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+    for (double v : value) {
+      if (!std::isfinite(v)) return false;
+    }
+  }
+  return true;
+}
 
 // Reads one mapping section, remembering which keys were used so leftovers can be reported.
 class Section {
@@ -37,17 +57,21 @@ class Section {
       if (required) throw InputError(fmt::format("{}: missing key '{}.{}'", source_, name_, key));
       return;
     }
+    T parsed;
     try {
-      value = section[key].template as<T>();
+      parsed = section[key].template as<T>();
     } catch (const YAML::Exception&) {
       throw InputError(fmt::format("{}: key '{}.{}' has an invalid value", source_, name_, key));
     }
+    // .nan/.inf parse as doubles but would pass or poison every later range check.
+    if (!isFinite(parsed)) throw InputError(fmt::format("{}: key '{}.{}' must be finite", source_, name_, key));
+    value = std::move(parsed);
   }
 
   void checkNoUnknownKeys() const {
     if (!present_) return;
     for (const auto& kv : node_) {
-      const auto key = kv.first.as<std::string>();
+      const auto key = keyName(kv.first, source_, "section '" + name_ + "'");
       if (!used_.count(key)) throw InputError(fmt::format("{}: unknown key '{}.{}'", source_, name_, key));
     }
   }
@@ -75,7 +99,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
   if (!root.IsMap()) throw InputError(fmt::format("{}: expected a YAML mapping at top level", source));
   static const std::set<std::string> kSections = {"camera", "depth", "orb", "tracking", "mapping", "dynamic", "system"};
   for (const auto& kv : root) {
-    const auto key = kv.first.as<std::string>();
+    const auto key = keyName(kv.first, source, "the top level");
     if (!kSections.count(key)) throw InputError(fmt::format("{}: unknown section '{}'", source, key));
   }
 

@@ -1,0 +1,63 @@
+#pragma once
+// Entry points shared by the libFuzzer targets (fuzz/*Fuzzer.cpp) and the regression test that
+// replays every input in fuzz/regressions/ (tests/io/FuzzRegressionTest.cpp).
+// Each harness feeds arbitrary bytes to one user-facing parser. InputError is the parser's
+// documented answer to bad input and is swallowed; anything else (another exception, a crash,
+// a sanitizer report, a hang) is a bug.
+#include <cstddef>
+#include <cstdint>
+#include <sstream>
+#include <string>
+
+#include "tkgslam/common/Error.h"
+#include "tkgslam/eval/Association.h"
+#include "tkgslam/io/ConfigFile.h"
+#include "tkgslam/io/TrajectoryFile.h"
+#include "tkgslam/io/TumDataset.h"
+
+namespace tkgslam::fuzz {
+
+/// rgb.txt and depth.txt in one input, split at the first NUL byte (absent: the same text twice),
+/// parsed and associated as TumDataset does.
+inline void fuzzTumLists(const std::uint8_t* data, std::size_t size) {
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  const auto split = text.find('\0');
+  const std::string rgb_text = text.substr(0, split);
+  const std::string depth_text = split == std::string::npos ? text : text.substr(split + 1);
+  try {
+    std::istringstream rgb_in(rgb_text), depth_in(depth_text);
+    const auto rgb = io::parseTumImageList(rgb_in, "rgb.txt");
+    const auto depth = io::parseTumImageList(depth_in, "depth.txt");
+    std::vector<double> a, b;
+    for (const auto& e : rgb) a.push_back(e.timestamp);
+    for (const auto& e : depth) b.push_back(e.timestamp);
+    for (const auto& [i, j] : eval::associateTimestamps(a, b)) {
+      if (i < 0 || j < 0 || i >= static_cast<int>(a.size()) || j >= static_cast<int>(b.size())) {
+        __builtin_trap();  // an association outside the lists is a bug
+      }
+    }
+    if (!a.empty()) (void)eval::findClosestIndex(a, b.empty() ? 0.0 : b.front());
+  } catch (const InputError&) {
+  }
+}
+
+/// A TUM trajectory as `tkgslam eval` reads it, including each pose's conversion.
+inline void fuzzTrajectory(const std::uint8_t* data, std::size_t size) {
+  try {
+    std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));
+    for (const auto& entry : io::parseTumTrajectory(in, "trajectory.txt")) {
+      if (!entry.hasZeroQuaternion()) (void)entry.pose();
+    }
+  } catch (const InputError&) {
+  }
+}
+
+/// A YAML config as `tkgslam run -c` reads it.
+inline void fuzzConfig(const std::uint8_t* data, std::size_t size) {
+  try {
+    (void)io::parseConfig(std::string(reinterpret_cast<const char*>(data), size), "config.yaml");
+  } catch (const InputError&) {
+  }
+}
+
+}  // namespace tkgslam::fuzz
