@@ -10,6 +10,7 @@
 
 #include "Commands.h"
 #include "tkgslam/common/Error.h"
+#include "tkgslam/common/ResidentMemory.h"
 #include "tkgslam/eval/Ate.h"
 #include "tkgslam/io/ConfigFile.h"
 #include "tkgslam/io/TrajectoryFile.h"
@@ -83,6 +84,9 @@ int runSlam(const RunOptions& o) {
   // Frames that produced no pose, and why: "timestamp status reason".
   std::ofstream frame_log(out / "frame_log.txt");
   frame_log << "# frames without a pose: timestamp status reason\n";
+  // Resident memory every 100 frames: long (--loops) runs must stay flat once the map stops growing.
+  std::ofstream memory_log(out / "memory.tsv");
+  memory_log << "frame\trss_mib\tkeyframes\tmap_points\n";
   // Ctrl-C stops after the current frame; everything computed so far is still written.
   g_interrupted = false;
   auto previous_handler = std::signal(SIGINT, onInterrupt);
@@ -108,10 +112,15 @@ int runSlam(const RunOptions& o) {
                                    : "too few matches to track or relocalise");
     }
     if (result.new_segment) frame_log << fmt::format("{:.6f} new_segment a new map segment starts here\n", images.timestamp);
+    if ((i + 1) % 100 == 0 || i + 1 == n) {
+      memory_log << fmt::format("{}\t{:.1f}\t{}\t{}\n", i + 1, residentMemoryMiB(), slam.keyFrameCount(),
+                                slam.mapPointCount())
+                 << std::flush;
+    }
     if (!o.quiet && ((i + 1) % 50 == 0 || i + 1 == n)) {
-      std::fprintf(stderr, "  frame %4d/%d  tracked %5.1f%%  keyframes %3zu  map points %5zu  %.1f ms/frame\n", i + 1,
-                   n, 100.0 * slam.framesTracked() / std::max(1, slam.framesProcessed()), slam.keyFrameCount(),
-                   slam.mapPointCount(), slam.timing().mean("total"));
+      std::fprintf(stderr, "  frame %4d/%d  tracked %5.1f%%  keyframes %3zu  map points %5zu  %.1f ms/frame  %.0f MiB\n",
+                   i + 1, n, 100.0 * slam.framesTracked() / std::max(1, slam.framesProcessed()), slam.keyFrameCount(),
+                   slam.mapPointCount(), slam.timing().mean("total"), residentMemoryMiB());
     }
   }
   std::signal(SIGINT, previous_handler);
@@ -181,7 +190,7 @@ int runSlam(const RunOptions& o) {
     std::printf("ATE RMSE %.4f m (%d poses)\n", ate.stats.rmse, ate.stats.count);
   }
   if (o.report) std::printf("report: %s\n", report::writeHtmlReport(o.out).c_str());
-  std::printf("outputs: %s/{trajectory.txt, keyframes.txt, map.ply, timing.json, run.json, frame_log.txt}\n",
+  std::printf("outputs: %s/{trajectory.txt, keyframes.txt, map.ply, timing.json, run.json, frame_log.txt, memory.tsv}\n",
               o.out.c_str());
   return g_interrupted ? 130 : 0;
 }

@@ -3,7 +3,7 @@
 # short real run (100 frames of fr1_xyz, TKG mode) - any report fails the script.
 #   scripts/sanitize.sh address,undefined   # ASan + UBSan (+ LeakSanitizer): tests and a deterministic run
 #   scripts/sanitize.sh thread              # TSan: the threaded pipeline (tracking, mapping, detector)
-# Third-party noise: none has needed suppressing so far; add it to scripts/sanitizer.supp with a reason.
+# Third-party noise is suppressed only for TSan, in scripts/tsan.supp, each entry with its reason.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SAN=${1:-address,undefined}
@@ -15,7 +15,7 @@ cmake -S . -B "$DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTKGSLAM_SANITIZE="$SAN"
 cmake --build "$DIR" -j"$(nproc)"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:halt_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-export TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
+export TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/scripts/tsan.supp
 if [ "$TESTS" = ON ]; then
   # The long end-to-end tests run in the normal suite; here everything else, instrumented.
   "$DIR/tests/tkgslam_tests" --gtest_filter='-SlamFr1Xyz.*:DynamicModes.Tkg*:CompositeSequence.*:HtmlReport.Renders*'

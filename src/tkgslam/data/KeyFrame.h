@@ -50,6 +50,13 @@ class KeyFrame {
   /// Map points seen by at least `min_obs` keyframes.
   int trackedMapPoints(int min_obs) const;
   void addMapPoint(const std::shared_ptr<MapPoint>& mp, int idx) { map_points[idx] = mp; }
+  /// Frees the keypoints, descriptors and point links of a keyframe that left the active map
+  /// (culled, or in a finished map segment). Only its pose and spanning-tree links stay: frame
+  /// poses are stored relative to it. Keeps memory flat on long runs.
+  void releaseFeatures() {
+    features.reset();
+    std::vector<std::shared_ptr<MapPoint>>().swap(map_points);
+  }
   void eraseMapPoint(int idx) { map_points[idx].reset(); }
 
   // Scratch for local mapping / tracking.

@@ -70,6 +70,7 @@ void Map::eraseKeyFrame(KeyFrame* kf) {
   }
   kf->parent = parent;
   kf->bad = true;
+  kf->releaseFeatures();
   keyframes_.erase(kf->id);
 }
 
@@ -98,7 +99,7 @@ void Map::clearActive() {
   for (auto& kv : keyframes_) {
     kv.second->connections.clear();
     kv.second->ordered_connections.clear();
-    kv.second->map_points.assign(kv.second->map_points.size(), nullptr);
+    kv.second->releaseFeatures();
     kv.second->not_erase = true;
   }
   keyframes_.clear();

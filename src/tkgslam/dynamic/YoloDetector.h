@@ -23,7 +23,6 @@ struct DetectorParams {
   float person_confidence = 0.25f;  ///< may be lower: missing a person costs more than a false box
   float nms = 0.45f;          ///< IoU threshold of non-maximum suppression
   std::vector<int> classes = defaultDynamicClasses();
-  int threads = 0;            ///< OpenCV DNN threads; 0 = OpenCV's default
 };
 
 class YoloDetector {

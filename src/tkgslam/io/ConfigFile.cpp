@@ -194,6 +194,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     s.get("nms", d.nms);
     s.get("classes", d.classes);
     s.get("detect_every", c.dynamic.detect_every);
+    s.get("detector_latency", c.dynamic.detector_latency);
     auto& t = c.dynamic.tracker;
     s.get("kalman_q", t.kalman.q);
     s.get("kalman_r", t.kalman.r);
@@ -215,6 +216,8 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
       d.model = (std::filesystem::path(source).parent_path() / d.model).lexically_normal().string();
     }
     require(c.dynamic.detect_every >= 1, source, "dynamic.detect_every must be >= 1");
+    require(c.dynamic.detector_latency >= 0 && c.dynamic.detector_latency <= c.dynamic.detect_every, source,
+            "dynamic.detector_latency must be in [0, detect_every]");
     require(t.kalman.q > 0 && t.kalman.r > 0, source, "dynamic.kalman_q and kalman_r must be > 0");
     require(t.iou_gate >= 0 && t.iou_gate < 1, source, "dynamic.iou_gate must be in [0, 1)");
     require(t.max_age >= 0, source, "dynamic.max_age must be >= 0");
@@ -229,7 +232,9 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     Section s(root, "system", source, false);
     s.get("deterministic", c.deterministic);
     s.get("seed", c.seed);
+    s.get("opencv_threads", c.opencv_threads);
     s.checkNoUnknownKeys();
+    require(c.opencv_threads >= 0, source, "system.opencv_threads must be >= 0");
   }
   return c;
 }

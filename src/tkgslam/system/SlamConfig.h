@@ -41,6 +41,7 @@ struct DynamicParams {
   dynamic::BoxTrackerParams tracker;
   dynamic::GeometryParams geometry;
   int detect_every = 1;  ///< run the detector on every N-th frame; the Kalman tracker predicts between
+  int detector_latency = 0;  ///< frames until a detection is used (0 = wait for it; see BoxPipeline)
   bool usesKalman() const { return mode == DynamicMode::TK || mode == DynamicMode::TKG; }
   bool usesGeometry() const { return mode == DynamicMode::TG || mode == DynamicMode::TKG; }
 };
@@ -55,6 +56,9 @@ struct SlamConfig {
   DynamicParams dynamic;
   bool deterministic = false;
   std::uint64_t seed = 42;
+  /// Threads of OpenCV's own pool (process-wide: cv::setNumThreads); 0 = OpenCV's default. 1 keeps
+  /// an asynchronous detector on one core, leaving the other to tracking and mapping.
+  int opencv_threads = 0;
 };
 
 }  // namespace tkgslam

@@ -1,8 +1,9 @@
 #include "tkgslam/system/SlamSystem.h"
 
 #include <chrono>
-#include <future>
 #include <mutex>
+
+#include <opencv2/core/utility.hpp>
 
 #include "tkgslam/dynamic/DynamicFilter.h"
 
@@ -15,9 +16,13 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 SlamSystem::SlamSystem(const SlamConfig& config)
-    : config_(config), camera_(config.camera), extractor_(config.orb), box_tracker_(config.dynamic.tracker) {
+    : config_(config), camera_(config.camera), extractor_(config.orb) {
+  if (config_.opencv_threads > 0) cv::setNumThreads(config_.opencv_threads);
   if (config_.dynamic.mode != DynamicMode::Orb) {
-    detector_ = std::make_unique<dynamic::YoloDetector>(config_.dynamic.detector);
+    boxes_ = std::make_unique<dynamic::BoxPipeline>(
+        config_.dynamic.detector, config_.dynamic.tracker,
+        dynamic::BoxScheduleParams{config_.dynamic.detect_every, config_.dynamic.detector_latency,
+                                   config_.dynamic.usesKalman()});
   }
   tracker_ = std::make_unique<tracking::Tracker>(map_, camera_, extractor_.pyramid(), config_);
   mapper_ = std::make_unique<mapping::LocalMapper>(map_, camera_, extractor_.pyramid(), config_);
@@ -26,30 +31,13 @@ SlamSystem::SlamSystem(const SlamConfig& config)
 
 SlamSystem::~SlamSystem() { mapping_thread_->stop(); }
 
-std::vector<dynamic::Detection> SlamSystem::boxesFor(const std::vector<dynamic::Detection>& detections,
-                                                     bool detector_ran, cv::Size image) {
-  if (!config_.dynamic.usesKalman()) {
-    if (detector_ran) last_detections_ = detections;
-    return last_detections_;  // frames between detector runs reuse the last boxes
-  }
-  return detector_ran ? box_tracker_.update(detections, image) : box_tracker_.predictAll(image);
-}
-
-tracking::RefineKeypoints SlamSystem::filterDynamic(const io::RgbdImages& images,
-                                                    std::future<std::pair<std::vector<dynamic::Detection>, double>>& detection,
-                                                    bool detector_ran, data::FrameFeatures& features,
+tracking::RefineKeypoints SlamSystem::filterDynamic(const io::RgbdImages& images, data::FrameFeatures& features,
                                                     dynamic::BoxMask& box_mask, DynamicFrameInfo& info) {
-  const auto tw = std::chrono::steady_clock::now();
-  std::vector<dynamic::Detection> detections;
-  if (detector_ran) {
-    auto [dets, ms] = detection.get();
-    detections = std::move(dets);
-    timing_.add("detector", ms);
-  }
-  timing_.add("detector_wait", msSince(tw));
-  const auto tb = std::chrono::steady_clock::now();
-  info.boxes = boxesFor(detections, detector_ran, images.bgr.size());
-  if (config_.dynamic.usesKalman()) timing_.add("box_tracker", msSince(tb));
+  dynamic::BoxTimings bt;
+  info.boxes = boxes_->frameBoxes(images.bgr.size(), bt);
+  if (bt.detector_ms >= 0) timing_.add("detector", bt.detector_ms);
+  timing_.add("detector_wait", bt.wait_ms);
+  if (config_.dynamic.usesKalman()) timing_.add("box_tracker", bt.tracker_ms);
   box_mask = dynamic::rasterizeBoxes(info.boxes, images.bgr.size());
   info.box_ratio = box_mask.ratio;
   for (const auto& b : info.boxes) (b.predicted ? info.predicted : info.detected)++;
@@ -94,16 +82,8 @@ void SlamSystem::scoreAgainstTruth(const cv::Mat& truth, const data::FrameFeatur
 
 tracking::TrackResult SlamSystem::processFrame(const io::RgbdImages& images) {
   const auto t0 = std::chrono::steady_clock::now();
-  // The detector works on its own thread while this one extracts ORB features.
-  const bool run_detector = detector_ && frames_ % config_.dynamic.detect_every == 0;
-  std::future<std::pair<std::vector<dynamic::Detection>, double>> detection;
-  if (run_detector) {
-    detection = std::async(std::launch::async, [this, &images] {
-      const auto td = std::chrono::steady_clock::now();
-      auto dets = detector_->detect(images.bgr);
-      return std::make_pair(std::move(dets), msSince(td));
-    });
-  }
+  // A scheduled detection runs on its own thread while this one extracts ORB features.
+  if (boxes_) boxes_->beginFrame(frames_, images.bgr);
   auto orb = extractor_.extract(images.gray);
   auto features = data::makeFrameFeatures(std::move(orb), images.bgr, images.depth_m, camera_, config_.depth);
   const double t_extract = msSince(t0);
@@ -111,7 +91,7 @@ tracking::TrackResult SlamSystem::processFrame(const io::RgbdImages& images) {
   dynamic::BoxMask box_mask;
   DynamicFrameInfo info;
   tracking::RefineKeypoints refine;
-  if (detector_) refine = filterDynamic(images, detection, run_detector, *features, box_mask, info);
+  if (boxes_) refine = filterDynamic(images, *features, box_mask, info);
 
   const auto t1 = std::chrono::steady_clock::now();
   data::Frame frame(frames_, images.timestamp, features);
@@ -119,7 +99,7 @@ tracking::TrackResult SlamSystem::processFrame(const io::RgbdImages& images) {
   const double t_track = msSince(t1);
 
   if (!images.truth_mask.empty()) scoreAgainstTruth(images.truth_mask, *features);
-  if (detector_) {
+  if (boxes_) {
     info.timestamp = images.timestamp;
     info.keypoints = features->size();
     for (int i = 0; i < features->size(); ++i) {

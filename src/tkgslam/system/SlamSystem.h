@@ -1,16 +1,14 @@
 #pragma once
 // The RGB-D SLAM pipeline for one sequence: feature extraction, tracking, local mapping (on its
 // own thread unless deterministic), and the outputs (trajectories, map, timings).
-#include <future>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "tkgslam/camera/PinholeCamera.h"
 #include "tkgslam/data/Map.h"
-#include "tkgslam/dynamic/BoxTracker.h"
+#include "tkgslam/dynamic/BoxPipeline.h"
 #include "tkgslam/dynamic/DynamicFilter.h"
-#include "tkgslam/dynamic/YoloDetector.h"
 #include "tkgslam/feature/OrbExtractor.h"
 #include "tkgslam/io/PlyWriter.h"
 #include "tkgslam/io/TumDataset.h"
@@ -86,24 +84,17 @@ class SlamSystem {
   std::unique_ptr<tracking::Tracker> tracker_;
   std::unique_ptr<mapping::LocalMapper> mapper_;
   std::unique_ptr<mapping::LocalMappingThread> mapping_thread_;
-  std::unique_ptr<dynamic::YoloDetector> detector_;
-  dynamic::BoxTracker box_tracker_;
-  std::vector<dynamic::Detection> last_detections_;
+  std::unique_ptr<dynamic::BoxPipeline> boxes_;  ///< detector + box tracker; null in orb mode
   std::vector<DynamicFrameInfo> dynamic_info_;
   KeypointClassification classification_;
   TimingStats timing_;
   int frames_ = 0;
 
-  /// Detector output -> boxes -> excluded keypoints; returns the geometry step for the tracker
+  /// This frame's boxes -> excluded keypoints; returns the geometry step for the tracker
   /// (empty unless the mode has it and the boxes cover at least tau of the image).
-  tracking::RefineKeypoints filterDynamic(const io::RgbdImages& images,
-                                          std::future<std::pair<std::vector<dynamic::Detection>, double>>& detection,
-                                          bool detector_ran, data::FrameFeatures& features, dynamic::BoxMask& box_mask,
-                                          DynamicFrameInfo& info);
+  tracking::RefineKeypoints filterDynamic(const io::RgbdImages& images, data::FrameFeatures& features,
+                                          dynamic::BoxMask& box_mask, DynamicFrameInfo& info);
   void scoreAgainstTruth(const cv::Mat& truth, const data::FrameFeatures& features);
-  /// Boxes for this frame from the detector (run on its own thread) and the box tracker.
-  std::vector<dynamic::Detection> boxesFor(const std::vector<dynamic::Detection>& detections, bool detector_ran,
-                                           cv::Size image);
 };
 
 }  // namespace tkgslam

@@ -1,0 +1,98 @@
+#include "tkgslam/dynamic/BoxPipeline.h"
+
+#include <chrono>
+
+#include <fmt/format.h>
+
+#include "tkgslam/common/Error.h"
+
+namespace tkgslam::dynamic {
+
+namespace {
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+BoxPipeline::BoxPipeline(const DetectorParams& detector, const BoxTrackerParams& tracker,
+                         const BoxScheduleParams& schedule)
+    : tracker_params_(tracker), schedule_(schedule), tracker_(tracker) {
+  if (schedule_.detect_every < 1) throw InputError("dynamic.detect_every must be >= 1");
+  if (schedule_.latency < 0 || schedule_.latency > schedule_.detect_every) {
+    throw InputError(fmt::format("dynamic.detector_latency must be in [0, detect_every = {}], got {}",
+                                 schedule_.detect_every, schedule_.latency));
+  }
+  detector_ = std::make_unique<YoloDetector>(detector);
+}
+
+BoxPipeline::~BoxPipeline() {
+  if (pending_ && pending_->result.valid()) pending_->result.wait();
+}
+
+void BoxPipeline::beginFrame(long index, const cv::Mat& bgr) {
+  index_ = index;
+  begin_timings_ = {};
+  // A detection started L frames ago is due: it must be consumed before the next one starts
+  // (one detection in flight at a time, so it never competes with itself for the cores).
+  if (pending_ && schedule_.latency > 0 && index >= pending_->frame + schedule_.latency) {
+    consume(*pending_, index, bgr.size(), begin_timings_);
+    pending_.reset();
+  }
+  if (index % schedule_.detect_every != 0) return;
+  Pending p;
+  p.frame = index;
+  p.tracker_before = tracker_;
+  // The task keeps its own reference to the image (cv::Mat is reference counted).
+  p.result = std::async(std::launch::async, [this, image = bgr] {
+    const auto t0 = std::chrono::steady_clock::now();
+    auto dets = detector_->detect(image);
+    return Result(std::move(dets), msSince(t0));
+  });
+  pending_ = std::move(p);
+}
+
+void BoxPipeline::consume(Pending& p, long index, cv::Size image, BoxTimings& timings) {
+  const auto tw = std::chrono::steady_clock::now();
+  auto [detections, ms] = p.result.get();
+  timings.wait_ms += msSince(tw);
+  timings.detector_ms = ms;
+  const auto tt = std::chrono::steady_clock::now();
+  if (schedule_.use_kalman) {
+    // Rewind to the detection's frame, update there, predict the frames since.
+    tracker_ = std::move(p.tracker_before);
+    tracker_.update(detections, image);
+    for (long f = p.frame + 1; f < index; ++f) tracker_.predictAll(image);
+  } else {
+    last_detections_ = std::move(detections);
+  }
+  timings.tracker_ms += msSince(tt);
+}
+
+std::vector<Detection> BoxPipeline::frameBoxes(cv::Size image, BoxTimings& timings) {
+  timings = begin_timings_;
+  const bool synchronous = pending_ && pending_->frame == index_ && (schedule_.latency == 0 || index_ == 0);
+  if (synchronous) {
+    const auto tw = std::chrono::steady_clock::now();
+    auto [detections, ms] = pending_->result.get();
+    timings.wait_ms += msSince(tw);
+    timings.detector_ms = ms;
+    pending_.reset();
+    const auto tt = std::chrono::steady_clock::now();
+    std::vector<Detection> out;
+    if (schedule_.use_kalman) {
+      out = tracker_.update(detections, image);
+    } else {
+      last_detections_ = std::move(detections);
+      out = last_detections_;
+    }
+    timings.tracker_ms += msSince(tt);
+    return out;
+  }
+  if (!schedule_.use_kalman) return last_detections_;  // frames between detections reuse the last boxes
+  const auto tt = std::chrono::steady_clock::now();
+  auto out = tracker_.predictAll(image);
+  timings.tracker_ms += msSince(tt);
+  return out;
+}
+
+}  // namespace tkgslam::dynamic

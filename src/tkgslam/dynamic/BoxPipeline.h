@@ -1,0 +1,70 @@
+#pragma once
+// Where each frame's boxes of dynamic objects come from: the YOLO detector (run on its own
+// thread) and the box tracker, on a fixed schedule that depends only on frame indices, so the
+// result is the same however fast the threads run (deterministic mode needs nothing extra).
+//
+//   latency 0 (synchronous): on every detect_every-th frame the detector runs in parallel with
+//     ORB extraction and tracking waits for it; the Kalman tracker predicts between runs.
+//   latency L > 0 (asynchronous): the detector is started on frame k and its result is used
+//     from frame k + L on (waiting only if it is not done by then). The box tracker is rewound to
+//     frame k, updated with the detections and predicted forward to the current frame. Tracking
+//     never waits for the detector on frames in between; boxes come from Kalman prediction.
+//     The very first frame is always detected synchronously (the map must not start on people).
+#include <future>
+#include <memory>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "tkgslam/dynamic/BoxTracker.h"
+#include "tkgslam/dynamic/YoloDetector.h"
+
+namespace tkgslam::dynamic {
+
+struct BoxScheduleParams {
+  int detect_every = 1;  ///< run the detector on frames whose index is a multiple of this
+  int latency = 0;       ///< frames between starting a detection and using it (0 = same frame)
+  bool use_kalman = true;  ///< false: the ablation without Kalman (boxes = last detections)
+};
+
+/// Times of one frame's box work, milliseconds (detector_ms < 0: no detection finished).
+struct BoxTimings {
+  double detector_ms = -1;  ///< inference time of the detection that was consumed (its own thread)
+  double wait_ms = 0;       ///< time the caller blocked waiting for the detector
+  double tracker_ms = 0;    ///< Kalman / Hungarian work
+};
+
+class BoxPipeline {
+ public:
+  /// Throws InputError for a bad model or schedule (latency > detect_every, detect_every < 1).
+  BoxPipeline(const DetectorParams& detector, const BoxTrackerParams& tracker, const BoxScheduleParams& schedule);
+  ~BoxPipeline();
+
+  /// Starts frame `index` (indices increase by one per frame): consumes a detection that is due
+  /// and launches the detector on `bgr` if the schedule says so. Call before feature extraction.
+  void beginFrame(long index, const cv::Mat& bgr);
+  /// The boxes for the frame begun last, clipped to the image.
+  std::vector<Detection> frameBoxes(cv::Size image, BoxTimings& timings);
+
+ private:
+  using Result = std::pair<std::vector<Detection>, double>;  // detections, inference ms
+  struct Pending {
+    long frame = -1;
+    std::future<Result> result;
+    BoxTracker tracker_before;  ///< box tracker state just before `frame`
+  };
+
+  /// Applies a finished detection of frame p.frame and predicts forward to just before `index`.
+  void consume(Pending& p, long index, cv::Size image, BoxTimings& timings);
+
+  std::unique_ptr<YoloDetector> detector_;
+  BoxTrackerParams tracker_params_;
+  BoxScheduleParams schedule_;
+  BoxTracker tracker_;
+  std::vector<Detection> last_detections_;  ///< without Kalman: reused until the next detection
+  std::optional<Pending> pending_;
+  long index_ = -1;
+  BoxTimings begin_timings_;  ///< waits in beginFrame, reported with the frame's boxes
+};
+
+}  // namespace tkgslam::dynamic
