@@ -58,7 +58,7 @@ Action addDetectCommand(CLI::App& app) {
   cmd->add_option("--model", o->params.model, "YOLOv5 ONNX model")->default_val(o->params.model);
   cmd->add_option("--size", o->params.input_size, "Network input size (multiple of 32)")->default_val(640);
   cmd->add_option("--conf", o->params.confidence, "Score threshold")->default_val(0.25);
-  cmd->add_option("--person-conf", o->params.person_confidence, "Score threshold for persons")->default_val(0.25);
+  cmd->add_option("--person-conf", o->params.person_confidence, "Score threshold for persons")->default_val(0.1);
   return [o] { return runDetect(*o); };
 }
 

@@ -29,6 +29,7 @@ struct RunOptions {
   bool report = false;
   int max_frames = 0;
   int loops = 1;
+  int detect_every = 0, detector_latency = -1, opencv_threads = -1;  // < default: keep the config's
 };
 
 std::atomic<bool> g_interrupted{false};
@@ -67,6 +68,9 @@ int runSlam(const RunOptions& o) {
   SlamConfig config = io::loadConfig(o.config);
   if (o.deterministic) config.deterministic = true;
   if (!o.mode.empty()) config.dynamic.mode = parseDynamicMode(o.mode);
+  if (o.detect_every > 0) config.dynamic.detect_every = o.detect_every;
+  if (o.detector_latency >= 0) config.dynamic.detector_latency = o.detector_latency;
+  if (o.opencv_threads >= 0) config.opencv_threads = o.opencv_threads;
   io::TumDatasetOptions dopt;
   dopt.depth_factor = config.depth.factor;
   dopt.expected_width = config.camera.width;
@@ -210,6 +214,13 @@ Action addRunCommand(CLI::App& app) {
   cmd->add_flag("-q,--quiet", o->quiet, "No progress lines");
   cmd->add_flag("--report", o->report, "Also write OUT/report.html (plots, 3-D view, timings)");
   cmd->add_option("--mode", o->mode, "Dynamic handling: orb, T, TK, TG or TKG (overrides dynamic.mode)");
+  cmd->add_option("--detect-every", o->detect_every, "Run the detector on every N-th frame (overrides the config)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--detector-latency", o->detector_latency,
+                  "Use each detection L frames later, tracking meanwhile (0 = wait; overrides the config)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--opencv-threads", o->opencv_threads, "OpenCV's thread pool size (0 = default)")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--debug-dynamic", o->debug_dynamic,
                   "Write per-frame boxes, T and dropped keypoints as JSON lines to this file");
   return [o] { return runSlam(*o); };

@@ -21,7 +21,10 @@ if [ "$TESTS" = ON ]; then
   "$DIR/tests/tkgslam_tests" --gtest_filter='-SlamFr1Xyz.*:DynamicModes.Tkg*:CompositeSequence.*:HtmlReport.Renders*'
 fi
 if [ -d "$SEQ" ]; then
-  MODE_FLAGS="--deterministic"; [ "$SAN" = thread ] && MODE_FLAGS=""   # TSan: the threaded pipeline
+  MODE_FLAGS="--deterministic"
+  # TSan: the threaded pipeline - mapping thread, and the detector thread both ways (synchronous on
+  # frame 0, then asynchronous: started every 4th frame, consumed 4 frames later).
+  [ "$SAN" = thread ] && MODE_FLAGS="--detect-every 4 --detector-latency 4"
   "$DIR/bin/tkgslam" run -q $MODE_FLAGS --mode TKG --max-frames 100 -c configs/tum_fr1.yaml -d "$SEQ" \
     -o "$DIR/run_check"
 else

@@ -61,5 +61,17 @@ TEST(DynamicModes, UnknownModeIsAClearError) {
   EXPECT_NE(out.find("unknown dynamic mode 'XYZ'"), std::string::npos) << out;
 }
 
+TEST(DynamicModes, DetectorLatencyLongerThanItsPeriodIsAClearError) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  std::string out;
+  EXPECT_EQ(test::runCli("run --mode TKG --detect-every 2 --detector-latency 3 -c " +
+                             (test::sourceDir() / "configs/tum_fr1.yaml").string() + " -d " + test::fr1xyz().string() +
+                             " -o " + tmp.path().string(),
+                         &out),
+            2);
+  EXPECT_NE(out.find("detector_latency must be in [0, detect_every = 2], got 3"), std::string::npos) << out;
+}
+
 }  // namespace
 }  // namespace tkgslam

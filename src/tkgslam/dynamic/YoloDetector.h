@@ -20,7 +20,7 @@ struct DetectorParams {
   std::string model;          ///< path to the ONNX file
   int input_size = 640;       ///< S (multiple of 32)
   float confidence = 0.25f;   ///< score threshold
-  float person_confidence = 0.25f;  ///< may be lower: missing a person costs more than a false box
+  float person_confidence = 0.1f;  ///< lower: missing a person costs more than a false box
   float nms = 0.45f;          ///< IoU threshold of non-maximum suppression
   std::vector<int> classes = defaultDynamicClasses();
 };
