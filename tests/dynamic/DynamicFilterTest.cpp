@@ -48,6 +48,19 @@ TEST(DynamicFilter, RatioIsTheUnionOfTheBoxes) {
   EXPECT_NEAR(m.ratio, (10000.0 + 5000.0 - 2500.0) / 20000.0, 1e-9);
 }
 
+TEST(DynamicFilter, MarginWidensEachBoxByAShareOfItsSize) {
+  dynamic::Detection d;
+  d.box = cv::Rect2f(50, 20, 40, 20);  // 40 x 20 px
+  const auto m = dynamic::rasterizeBoxes({d}, cv::Size(200, 100), 0.1);
+  // 4 px more left and right, 2 px more at the top and bottom: 48 x 24.
+  EXPECT_EQ(cv::countNonZero(m.mask), 48 * 24);
+  EXPECT_EQ(m.mask.at<uchar>(18, 46), 255);
+  EXPECT_EQ(m.mask.at<uchar>(17, 46), 0);
+  EXPECT_EQ(m.mask.at<uchar>(41, 93), 255);
+  EXPECT_EQ(m.mask.at<uchar>(42, 94), 0);
+  EXPECT_DOUBLE_EQ(m.ratio, 48.0 * 24.0 / (200.0 * 100.0));
+}
+
 TEST(DynamicFilter, BoxOverAStaticWallKeepsItsPoints) {
   Scene s;
   auto ref = gridFeatures(s.wall, s.cam);

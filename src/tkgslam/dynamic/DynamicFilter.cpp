@@ -16,13 +16,14 @@ bool inMask(const cv::Mat& mask, const cv::Point2f& p) {
 }
 }  // namespace
 
-BoxMask rasterizeBoxes(const std::vector<Detection>& boxes, cv::Size image) {
+BoxMask rasterizeBoxes(const std::vector<Detection>& boxes, cv::Size image, double margin) {
   BoxMask m;
   m.mask = cv::Mat::zeros(image, CV_8U);
   const cv::Rect frame(0, 0, image.width, image.height);
   for (const auto& d : boxes) {
-    const cv::Rect r = cv::Rect(cv::Point(int(std::floor(d.box.x)), int(std::floor(d.box.y))),
-                                cv::Point(int(std::ceil(d.box.br().x)), int(std::ceil(d.box.br().y)))) &
+    const float mx = float(margin) * d.box.width, my = float(margin) * d.box.height;
+    const cv::Rect r = cv::Rect(cv::Point(int(std::floor(d.box.x - mx)), int(std::floor(d.box.y - my))),
+                                cv::Point(int(std::ceil(d.box.br().x + mx)), int(std::ceil(d.box.br().y + my)))) &
                        frame;
     if (r.area() > 0) m.mask(r).setTo(255);
   }

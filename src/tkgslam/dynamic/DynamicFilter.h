@@ -41,7 +41,9 @@ struct BoxMask {
   cv::Mat mask;
   double ratio = 0;
 };
-BoxMask rasterizeBoxes(const std::vector<Detection>& boxes, cv::Size image);
+/// Each box is widened by `margin` x its width (height) on the left and right (top and bottom):
+/// detector boxes are tight and limbs of moving people stick out of them.
+BoxMask rasterizeBoxes(const std::vector<Detection>& boxes, cv::Size image, double margin = 0.0);
 
 /// Marks every keypoint inside the mask as excluded; returns how many.
 int excludeKeypointsInMask(data::FrameFeatures& features, const cv::Mat& mask);

@@ -195,6 +195,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     s.get("classes", d.classes);
     s.get("detect_every", c.dynamic.detect_every);
     s.get("detector_latency", c.dynamic.detector_latency);
+    s.get("box_margin", c.dynamic.box_margin);
     auto& t = c.dynamic.tracker;
     s.get("kalman_q", t.kalman.q);
     s.get("kalman_r", t.kalman.r);
@@ -216,6 +217,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
       d.model = (std::filesystem::path(source).parent_path() / d.model).lexically_normal().string();
     }
     require(c.dynamic.detect_every >= 1, source, "dynamic.detect_every must be >= 1");
+    require(c.dynamic.box_margin >= 0 && c.dynamic.box_margin <= 0.5, source, "dynamic.box_margin must be in [0, 0.5]");
     require(c.dynamic.detector_latency >= 0 && c.dynamic.detector_latency <= c.dynamic.detect_every, source,
             "dynamic.detector_latency must be in [0, detect_every]");
     require(t.kalman.q > 0 && t.kalman.r > 0, source, "dynamic.kalman_q and kalman_r must be > 0");

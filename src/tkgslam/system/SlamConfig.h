@@ -41,6 +41,7 @@ struct DynamicParams {
   dynamic::BoxTrackerParams tracker;
   dynamic::GeometryParams geometry;
   int detect_every = 1;  ///< run the detector on every N-th frame; the Kalman tracker predicts between
+  double box_margin = 0.05;  ///< boxes are widened by this fraction of their size on each side
   int detector_latency = 0;  ///< frames until a detection is used (0 = wait for it; see BoxPipeline)
   bool usesKalman() const { return mode == DynamicMode::TK || mode == DynamicMode::TKG; }
   bool usesGeometry() const { return mode == DynamicMode::TG || mode == DynamicMode::TKG; }

@@ -38,7 +38,7 @@ tracking::RefineKeypoints SlamSystem::filterDynamic(const io::RgbdImages& images
   if (bt.detector_ms >= 0) timing_.add("detector", bt.detector_ms);
   timing_.add("detector_wait", bt.wait_ms);
   if (config_.dynamic.usesKalman()) timing_.add("box_tracker", bt.tracker_ms);
-  box_mask = dynamic::rasterizeBoxes(info.boxes, images.bgr.size());
+  box_mask = dynamic::rasterizeBoxes(info.boxes, images.bgr.size(), config_.dynamic.box_margin);
   info.box_ratio = box_mask.ratio;
   for (const auto& b : info.boxes) (b.predicted ? info.predicted : info.detected)++;
   dynamic::excludeKeypointsInMask(features, box_mask.mask);
