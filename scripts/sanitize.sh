@@ -18,7 +18,7 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/scripts/tsan.supp
 if [ "$TESTS" = ON ]; then
   # The long end-to-end tests run in the normal suite; here everything else, instrumented.
-  "$DIR/tests/tkgslam_tests" --gtest_filter='-SlamFr1Xyz.*:DynamicModes.Tkg*:CompositeSequence.*:HtmlReport.Renders*'
+  "$DIR/tests/tkgslam_tests" --gtest_filter='-SlamFr1Xyz.*:DynamicModes.Tkg*:CompositeSequence.*:HtmlReport.Renders*:Determinism.*'
 fi
 if [ -d "$SEQ" ]; then
   MODE_FLAGS="--deterministic"
