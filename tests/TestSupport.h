@@ -23,6 +23,9 @@ inline std::filesystem::path sharedDir() {
       GTEST_SKIP() << "../shared (datasets/models) not found next to the repository; skipped"; \
   } while (0)
 
+/// The bundled YOLOv5n export in ../shared.
+inline std::string yoloModel() { return (sharedDir() / "models" / "yolov5n-coco-640.onnx").string(); }
+
 inline std::filesystem::path fr1xyz() { return sharedDir() / "datasets" / "rgbd_dataset_freiburg1_xyz"; }
 
 /// A fresh temporary directory, removed when the object dies.

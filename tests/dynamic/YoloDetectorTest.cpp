@@ -11,7 +11,7 @@ namespace {
 
 dynamic::DetectorParams params() {
   dynamic::DetectorParams p;
-  p.model = (test::sharedDir() / "models" / "yolov5n-coco-640.onnx").string();
+  p.model = test::yoloModel();
   return p;
 }
 

@@ -4,19 +4,14 @@
 
 #include <fmt/format.h>
 
+#include "tkgslam/common/Elapsed.h"
 #include "tkgslam/common/Error.h"
 
 namespace tkgslam::dynamic {
 
-namespace {
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
-
 BoxPipeline::BoxPipeline(const DetectorParams& detector, const BoxTrackerParams& tracker,
                          const BoxScheduleParams& schedule)
-    : tracker_params_(tracker), schedule_(schedule), tracker_(tracker) {
+    : schedule_(schedule), tracker_(tracker) {
   if (schedule_.detect_every < 1) throw InputError("dynamic.detect_every must be >= 1");
   if (schedule_.latency < 0 || schedule_.latency > schedule_.detect_every) {
     throw InputError(fmt::format("dynamic.detector_latency must be in [0, detect_every = {}], got {}",
@@ -51,41 +46,33 @@ void BoxPipeline::beginFrame(long index, const cv::Mat& bgr) {
   pending_ = std::move(p);
 }
 
-void BoxPipeline::consume(Pending& p, long index, cv::Size image, BoxTimings& timings) {
+std::vector<Detection> BoxPipeline::consume(Pending& p, long index, cv::Size image, BoxTimings& timings) {
   const auto tw = std::chrono::steady_clock::now();
   auto [detections, ms] = p.result.get();
   timings.wait_ms += msSince(tw);
   timings.detector_ms = ms;
   const auto tt = std::chrono::steady_clock::now();
+  std::vector<Detection> out;
   if (schedule_.use_kalman) {
-    // Rewind to the detection's frame, update there, predict the frames since.
+    // Rewind to the detection's frame, update there, predict the frames since (none when the
+    // detection is used on its own frame).
     tracker_ = std::move(p.tracker_before);
-    tracker_.update(detections, image);
+    out = tracker_.update(detections, image);
     for (long f = p.frame + 1; f < index; ++f) tracker_.predictAll(image);
   } else {
     last_detections_ = std::move(detections);
+    out = last_detections_;
   }
   timings.tracker_ms += msSince(tt);
+  return out;
 }
 
 std::vector<Detection> BoxPipeline::frameBoxes(cv::Size image, BoxTimings& timings) {
   timings = begin_timings_;
   const bool synchronous = pending_ && pending_->frame == index_ && (schedule_.latency == 0 || index_ == 0);
   if (synchronous) {
-    const auto tw = std::chrono::steady_clock::now();
-    auto [detections, ms] = pending_->result.get();
-    timings.wait_ms += msSince(tw);
-    timings.detector_ms = ms;
+    auto out = consume(*pending_, index_, image, timings);
     pending_.reset();
-    const auto tt = std::chrono::steady_clock::now();
-    std::vector<Detection> out;
-    if (schedule_.use_kalman) {
-      out = tracker_.update(detections, image);
-    } else {
-      last_detections_ = std::move(detections);
-      out = last_detections_;
-    }
-    timings.tracker_ms += msSince(tt);
     return out;
   }
   if (!schedule_.use_kalman) return last_detections_;  // frames between detections reuse the last boxes

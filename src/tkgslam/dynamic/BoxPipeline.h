@@ -54,11 +54,11 @@ class BoxPipeline {
     BoxTracker tracker_before;  ///< box tracker state just before `frame`
   };
 
-  /// Applies a finished detection of frame p.frame and predicts forward to just before `index`.
-  void consume(Pending& p, long index, cv::Size image, BoxTimings& timings);
+  /// Applies a finished detection of frame p.frame and predicts forward to just before `index`;
+  /// returns the boxes of frame p.frame (the box tracker's output there).
+  std::vector<Detection> consume(Pending& p, long index, cv::Size image, BoxTimings& timings);
 
   std::unique_ptr<YoloDetector> detector_;
-  BoxTrackerParams tracker_params_;
   BoxScheduleParams schedule_;
   BoxTracker tracker_;
   std::vector<Detection> last_detections_;  ///< without Kalman: reused until the next detection

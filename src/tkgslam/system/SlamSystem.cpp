@@ -5,15 +5,10 @@
 
 #include <opencv2/core/utility.hpp>
 
+#include "tkgslam/common/Elapsed.h"
 #include "tkgslam/dynamic/DynamicFilter.h"
 
 namespace tkgslam {
-
-namespace {
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
 
 SlamSystem::SlamSystem(const SlamConfig& config)
     : config_(config), camera_(config.camera), extractor_(config.orb) {
