@@ -30,6 +30,7 @@ struct RunOptions {
   int max_frames = 0;
   int loops = 1;
   int detect_every = 0, detector_latency = -1, opencv_threads = -1;  // < default: keep the config's
+  std::string box_flow;                                              // empty: keep the config's
 };
 
 std::atomic<bool> g_interrupted{false};
@@ -56,7 +57,9 @@ void writeDynamicDebug(const std::string& path, const std::vector<DynamicFrameIn
                          i ? ", " : "", b.box.x, b.box.y, b.box.width, b.box.height, b.class_id, b.score,
                          b.predicted ? "true" : "false", b.track_id);
     }
-    out << "], \"dropped_points\": [";
+    out << "]";
+    if (f.missed_dynamic >= 0) out << fmt::format(", \"missed_dynamic\": {}", f.missed_dynamic);
+    out << ", \"dropped_points\": [";
     for (size_t i = 0; i < f.dropped_points.size(); ++i) {
       out << fmt::format("{}[{:.0f}, {:.0f}]", i ? ", " : "", f.dropped_points[i].x, f.dropped_points[i].y);
     }
@@ -71,6 +74,7 @@ int runSlam(const RunOptions& o) {
   if (o.detect_every > 0) config.dynamic.detect_every = o.detect_every;
   if (o.detector_latency >= 0) config.dynamic.detector_latency = o.detector_latency;
   if (o.opencv_threads >= 0) config.opencv_threads = o.opencv_threads;
+  if (!o.box_flow.empty()) config.dynamic.box_flow = o.box_flow;
   io::TumDatasetOptions dopt;
   dopt.depth_factor = config.depth.factor;
   dopt.expected_width = config.camera.width;
@@ -219,6 +223,8 @@ Action addRunCommand(CLI::App& app) {
   cmd->add_option("--detector-latency", o->detector_latency,
                   "Use each detection L frames later, tracking meanwhile (0 = wait; overrides the config)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--box-flow", o->box_flow, "Move boxes by optical flow between detections: auto, on, off")
+      ->check(CLI::IsMember({"auto", "on", "off"}));
   cmd->add_option("--opencv-threads", o->opencv_threads, "OpenCV's thread pool size (0 = default)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--debug-dynamic", o->debug_dynamic,

@@ -1,6 +1,7 @@
 // The detection schedule: synchronous first frame, fixed latency afterwards, Kalman prediction in
 // between, and the same boxes whatever the thread timing (the result only depends on indices).
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <gtest/gtest.h>
 
@@ -61,6 +62,52 @@ TEST(BoxPipeline, AsynchronousScheduleUsesEachDetectionLatencyFramesLater) {
     ASSERT_EQ(repeat[i].boxes.size(), frames[i].boxes.size());
     for (size_t b = 0; b < frames[i].boxes.size(); ++b) EXPECT_EQ(repeat[i].boxes[b].box, frames[i].boxes[b].box);
   }
+}
+
+TEST(BoxPipeline, BetweenLateDetectionsBoxesFollowTheImageByOpticalFlow) {
+  TKGSLAM_REQUIRE_SHARED();
+  const cv::Mat bus = cv::imread((test::sharedDir() / "datasets/people/bus.jpg").string());
+  ASSERT_FALSE(bus.empty());
+  // The camera pans, the picture moving 6 px right per frame, and stops after frame 4.
+  auto frame = [&](int i) {
+    cv::Mat out;
+    const cv::Mat m = (cv::Mat_<double>(2, 3) << 1, 0, 6.0 * std::min(i, 4), 0, 1, 0);
+    cv::warpAffine(bus, out, m, bus.size(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+    return out;
+  };
+  auto run = [&](bool flow) {
+    dynamic::BoxPipeline pipeline(detectorParams(), {}, {/*detect_every=*/4, /*latency=*/4, true, flow});
+    std::vector<std::vector<dynamic::Detection>> boxes;
+    for (int i = 0; i < 10; ++i) {
+      const cv::Mat image = frame(i);
+      pipeline.beginFrame(i, image);
+      dynamic::BoxTimings t;
+      boxes.push_back(pipeline.frameBoxes(image.size(), t));
+    }
+    return boxes;
+  };
+  const auto with_flow = run(true), without = run(false);
+  // Boxes of frame 0 away from the border, and where they are on frame 3 (no detection has
+  // arrived since frame 0: the one started on frame 4 is used on frame 8) and on frame 9 (the
+  // tracker was rewound to frame 4, updated, and the flow of frames 5-8 replayed: the boxes
+  // stopped with the picture instead of going on at the old velocity).
+  const cv::Rect2f inner(2, 2, float(bus.cols) - 60, float(bus.rows) - 4);
+  int checked = 0;
+  for (size_t b = 0; b < with_flow[0].size(); ++b) {
+    const cv::Rect2f r0 = with_flow[0][b].box;
+    if ((r0 & inner) != r0) continue;
+    const cv::Rect2f expected = r0 + cv::Point2f(18, 0);
+    ASSERT_LT(b, with_flow[3].size());
+    EXPECT_GT(dynamic::iou(with_flow[3][b].box, expected), 0.9f) << with_flow[3][b].box << " vs " << expected;
+    // Without flow a new track has no velocity: its box stays where it was detected.
+    EXPECT_GT(dynamic::iou(without[3][b].box, r0), 0.95f);
+    const cv::Rect2f at9 = r0 + cv::Point2f(24, 0);
+    float best = 0;
+    for (const auto& d : with_flow[9]) best = std::max(best, dynamic::iou(d.box, at9));
+    EXPECT_GT(best, 0.85f) << "frame 9, expected near " << at9;
+    ++checked;
+  }
+  EXPECT_GE(checked, 2);
 }
 
 TEST(BoxPipeline, WithoutKalmanTheLastDetectionIsReused) {

@@ -1,4 +1,5 @@
 #include <random>
+#include <set>
 
 #include <gtest/gtest.h>
 
@@ -136,6 +137,65 @@ TEST(BoxTracker, NoFillWhenTheDetectionCountDoesNotDrop) {
   const auto out = tracker.update({box(500, 300)});
   ASSERT_EQ(out.size(), 1u);
   EXPECT_FALSE(out[0].predicted);
+}
+
+TEST(BoxTracker, DetectionsEightFramesApartKeepTheirTrackAndGainVelocity) {
+  // A person walking 10 px/frame, detected every 8th frame (80 px apart: IoU 0 with a box 60 px
+  // wide): the centre gate keeps one track, whose prediction then moves with the person.
+  dynamic::BoxTracker tracker;
+  int id = -1;
+  for (int run = 0; run < 4; ++run) {
+    const auto out = tracker.update({box(100 + 80.f * run, 100)});
+    ASSERT_EQ(out.size(), 1u);
+    if (run == 0) id = out[0].track_id;
+    EXPECT_EQ(out[0].track_id, id) << "run " << run;
+    for (int f = 1; f < 8; ++f) tracker.predictAll();
+  }
+  EXPECT_EQ(tracker.liveTracks(), 1);
+  // After the runs, the prediction 4 frames on is near where the person is.
+  tracker.update({box(100 + 80.f * 4, 100)});
+  std::vector<Detection> p;
+  for (int f = 1; f <= 4; ++f) p = tracker.predictAll();
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_GT(dynamic::iou(p[0].box, box(100 + 80.f * 4 + 40, 100).box), 0.6f) << p[0].box;
+
+  // IoU alone (the paper's gate) starts a new track on every run.
+  dynamic::BoxTrackerParams iou_only;
+  iou_only.centre_gate = 0;
+  dynamic::BoxTracker plain(iou_only);
+  std::set<int> ids;
+  for (int run = 0; run < 3; ++run) {
+    ids.insert(plain.update({box(100 + 80.f * run, 100)})[0].track_id);
+    for (int f = 1; f < 8; ++f) plain.predictAll();
+  }
+  EXPECT_EQ(ids.size(), 3u);
+}
+
+TEST(BoxTracker, CentreGateRejectsFarOrDifferentlySizedBoxes) {
+  dynamic::BoxTracker tracker;
+  const int id = tracker.update({box(100, 100)})[0].track_id;
+  tracker.predictAll();
+  // One frame later a box 150 px away is another person, not this one moved.
+  EXPECT_NE(tracker.update({box(250, 100)})[0].track_id, id);
+  // A box of a fifth of the size at the same place is not the same object either.
+  dynamic::BoxTracker second;
+  const int id2 = second.update({box(100, 100)})[0].track_id;
+  for (int f = 1; f < 8; ++f) second.predictAll();
+  EXPECT_NE(second.update({box(140, 140, 20, 60)})[0].track_id, id2);
+}
+
+TEST(BoxTracker, MovedBoxesCorrectThePrediction) {
+  // Flow (or any other measurement) says the person moved 12 px right: the predicted box follows
+  // it instead of standing still (a new track has no velocity yet).
+  dynamic::BoxTracker tracker;
+  tracker.update({box(100, 100)});
+  const auto last = tracker.lastBoxes();
+  ASSERT_EQ(last.size(), 1u);
+  const dynamic::BoxTracker::Moved moved{cv::Rect2f(last[0].x + 12, last[0].y, last[0].width, last[0].height)};
+  const auto out = tracker.predictAll({}, &moved);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_NEAR(out[0].box.x, 112.0f, 0.1f);
+  EXPECT_TRUE(out[0].predicted);
 }
 
 }  // namespace

@@ -49,6 +49,9 @@ TEST(ConfigFile, InvalidValuesAreClearErrors) {
   EXPECT_NE(errorOf("camera: [1, 2").find("not valid YAML"), std::string::npos);
   EXPECT_NE(errorOf("orb: {features: 100}").find("missing section 'camera'"), std::string::npos);
   EXPECT_NE(errorOf(std::string(kMinimal) + "camera2: {}").find("unknown section"), std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {box_flow: sometimes}").find("dynamic.box_flow must be auto, on or off"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {centre_gate: -1}").find("centre_gate"), std::string::npos);
   EXPECT_THROW(io::loadConfig("/nonexistent.yaml"), InputError);
 }
 

@@ -46,6 +46,13 @@ cv::Rect2f BoxKalmanFilter::predict() {
   return box();
 }
 
+void BoxKalmanFilter::follow(const cv::Rect2f& box) {
+  const Eigen::Vector4d z = boxToMeasurement(box);
+  const Eigen::Vector3d previous = x_.head<3>() - x_.segment<3>(4);  // state before predict()
+  x_.segment<3>(4) = 0.5 * (x_.segment<3>(4) + (z.head<3>() - previous));
+  x_.head<4>() = z;
+}
+
 void BoxKalmanFilter::update(const cv::Rect2f& box) {
   static const auto H = observation();
   const Eigen::Vector4d z = boxToMeasurement(box);

@@ -26,6 +26,11 @@ class BoxKalmanFilter {
   cv::Rect2f predict();
   /// Fuses a measured box.
   void update(const cv::Rect2f& box);
+  /// After predict(): takes a box measured by frame-to-frame motion (optical flow) as the new
+  /// position and the motion since the previous frame as the velocity (averaged with the old one).
+  /// Not a Kalman update: with the paper's Q and R the filter would trust its old velocity for
+  /// many frames, and flow is a direct measurement of the current motion.
+  void follow(const cv::Rect2f& box);
 
   cv::Rect2f box() const { return stateToBox(x_); }
   const State& state() const { return x_; }

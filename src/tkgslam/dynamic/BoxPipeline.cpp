@@ -24,9 +24,30 @@ BoxPipeline::~BoxPipeline() {
   if (pending_ && pending_->result.valid()) pending_->result.wait();
 }
 
-void BoxPipeline::beginFrame(long index, const cv::Mat& bgr) {
+const FlowFrame* BoxPipeline::flowFrame(long frame) const {
+  for (const auto& [f, pyramid] : flow_frames_) {
+    if (f == frame) return &pyramid;
+  }
+  return nullptr;
+}
+
+std::optional<BoxTracker::Moved> BoxPipeline::flowTo(long frame) const {
+  const FlowFrame* from = flowFrame(frame - 1);
+  const FlowFrame* to = flowFrame(frame);
+  if (!from || !to) return std::nullopt;
+  return flow_.propagate(*from, *to, tracker_.lastBoxes());
+}
+
+void BoxPipeline::beginFrame(long index, const cv::Mat& bgr, const cv::Mat& depth_m) {
   index_ = index;
   begin_timings_ = {};
+  if (schedule_.use_kalman && schedule_.use_flow) {
+    const auto tf = std::chrono::steady_clock::now();
+    flow_frames_.emplace_back(index, flow_.prepare(bgr, depth_m));
+    // Kept: frame index - latency - 1 (before the oldest detection that can still be rewound to).
+    while (flow_frames_.front().first < index - schedule_.latency - 1) flow_frames_.pop_front();
+    begin_timings_.tracker_ms += msSince(tf);
+  }
   // A detection started L frames ago is due: it must be consumed before the next one starts
   // (one detection in flight at a time, so it never competes with itself for the cores).
   if (pending_ && schedule_.latency > 0 && index >= pending_->frame + schedule_.latency) {
@@ -57,8 +78,12 @@ std::vector<Detection> BoxPipeline::consume(Pending& p, long index, cv::Size ima
     // Rewind to the detection's frame, update there, predict the frames since (none when the
     // detection is used on its own frame).
     tracker_ = std::move(p.tracker_before);
-    out = tracker_.update(detections, image);
-    for (long f = p.frame + 1; f < index; ++f) tracker_.predictAll(image);
+    auto moved = flowTo(p.frame);
+    out = tracker_.update(detections, image, moved ? &*moved : nullptr);
+    for (long f = p.frame + 1; f < index; ++f) {
+      moved = flowTo(f);
+      tracker_.predictAll(image, moved ? &*moved : nullptr);
+    }
   } else {
     last_detections_ = std::move(detections);
     out = last_detections_;
@@ -77,7 +102,8 @@ std::vector<Detection> BoxPipeline::frameBoxes(cv::Size image, BoxTimings& timin
   }
   if (!schedule_.use_kalman) return last_detections_;  // frames between detections reuse the last boxes
   const auto tt = std::chrono::steady_clock::now();
-  auto out = tracker_.predictAll(image);
+  const auto moved = flowTo(index_);
+  auto out = tracker_.predictAll(image, moved ? &*moved : nullptr);
   timings.tracker_ms += msSince(tt);
   return out;
 }

@@ -10,12 +10,17 @@
 //     frame k, updated with the detections and predicted forward to the current frame. Tracking
 //     never waits for the detector on frames in between; boxes come from Kalman prediction.
 //     The very first frame is always detected synchronously (the map must not start on people).
+// With flow on, every track's box is also moved frame to frame by optical flow (BoxFlow) and the
+// Kalman filter fuses that with its constant-velocity prediction; the asynchronous path replays
+// the flow over the frames it rewinds (the pipeline keeps the last latency + 2 frames' pyramids).
+#include <deque>
 #include <future>
 #include <memory>
 #include <optional>
 #include <utility>
 #include <vector>
 
+#include "tkgslam/dynamic/BoxFlow.h"
 #include "tkgslam/dynamic/BoxTracker.h"
 #include "tkgslam/dynamic/YoloDetector.h"
 
@@ -25,6 +30,7 @@ struct BoxScheduleParams {
   int detect_every = 1;  ///< run the detector on frames whose index is a multiple of this
   int latency = 0;       ///< frames between starting a detection and using it (0 = same frame)
   bool use_kalman = true;  ///< false: the ablation without Kalman (boxes = last detections)
+  bool use_flow = true;    ///< move the tracks' boxes by optical flow between frames (needs Kalman)
 };
 
 /// Times of one frame's box work, milliseconds (detector_ms < 0: no detection finished).
@@ -42,7 +48,8 @@ class BoxPipeline {
 
   /// Starts frame `index` (indices increase by one per frame): consumes a detection that is due
   /// and launches the detector on `bgr` if the schedule says so. Call before feature extraction.
-  void beginFrame(long index, const cv::Mat& bgr);
+  /// `depth_m` (CV_32F metres, may be empty) lets the optical flow follow the nearest surface.
+  void beginFrame(long index, const cv::Mat& bgr, const cv::Mat& depth_m = {});
   /// The boxes for the frame begun last, clipped to the image.
   std::vector<Detection> frameBoxes(cv::Size image, BoxTimings& timings);
 
@@ -57,10 +64,16 @@ class BoxPipeline {
   /// Applies a finished detection of frame p.frame and predicts forward to just before `index`;
   /// returns the boxes of frame p.frame (the box tracker's output there).
   std::vector<Detection> consume(Pending& p, long index, cv::Size image, BoxTimings& timings);
+  /// The tracks' boxes moved by optical flow from frame-1 to frame (nullopt: flow off or a
+  /// frame not kept).
+  std::optional<BoxTracker::Moved> flowTo(long frame) const;
+  const FlowFrame* flowFrame(long frame) const;
 
   std::unique_ptr<YoloDetector> detector_;
   BoxScheduleParams schedule_;
   BoxTracker tracker_;
+  BoxFlow flow_;
+  std::deque<std::pair<long, FlowFrame>> flow_frames_;  ///< the last frames' pyramids, oldest first
   std::vector<Detection> last_detections_;  ///< without Kalman: reused until the next detection
   std::optional<Pending> pending_;
   long index_ = -1;

@@ -196,10 +196,13 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     s.get("detect_every", c.dynamic.detect_every);
     s.get("detector_latency", c.dynamic.detector_latency);
     s.get("box_margin", c.dynamic.box_margin);
+    s.get("box_flow", c.dynamic.box_flow);
     auto& t = c.dynamic.tracker;
     s.get("kalman_q", t.kalman.q);
     s.get("kalman_r", t.kalman.r);
     s.get("iou_gate", t.iou_gate);
+    s.get("centre_gate", t.centre_gate);
+    s.get("centre_gate_max", t.centre_gate_max);
     s.get("max_age", t.max_age);
     auto& g = c.dynamic.geometry;
     s.get("ratio_threshold", g.ratio_threshold);
@@ -216,12 +219,15 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     if (!d.model.empty() && std::filesystem::path(d.model).is_relative()) {
       d.model = (std::filesystem::path(source).parent_path() / d.model).lexically_normal().string();
     }
+    require(c.dynamic.box_flow == "auto" || c.dynamic.box_flow == "on" || c.dynamic.box_flow == "off", source,
+            "dynamic.box_flow must be auto, on or off");
     require(c.dynamic.detect_every >= 1, source, "dynamic.detect_every must be >= 1");
     require(c.dynamic.box_margin >= 0 && c.dynamic.box_margin <= 0.5, source, "dynamic.box_margin must be in [0, 0.5]");
     require(c.dynamic.detector_latency >= 0 && c.dynamic.detector_latency <= c.dynamic.detect_every, source,
             "dynamic.detector_latency must be in [0, detect_every]");
     require(t.kalman.q > 0 && t.kalman.r > 0, source, "dynamic.kalman_q and kalman_r must be > 0");
     require(t.iou_gate >= 0 && t.iou_gate < 1, source, "dynamic.iou_gate must be in [0, 1)");
+    require(t.centre_gate >= 0 && t.centre_gate_max >= 0, source, "dynamic.centre_gate and centre_gate_max must be >= 0");
     require(t.max_age >= 0, source, "dynamic.max_age must be >= 0");
     require(g.ratio_threshold >= 0 && g.ratio_threshold <= 1, source, "dynamic.ratio_threshold must be in [0, 1]");
     require(g.reference_keyframes >= 1, source, "dynamic.reference_keyframes must be >= 1");

@@ -43,6 +43,13 @@ struct DynamicParams {
   int detect_every = 1;  ///< run the detector on every N-th frame; the Kalman tracker predicts between
   double box_margin = 0.05;  ///< boxes are widened by this fraction of their size on each side
   int detector_latency = 0;  ///< frames until a detection is used (0 = wait for it; see BoxPipeline)
+  /// Kalman modes: tracks' boxes also follow optical flow between frames. "auto" = only when the
+  /// detector does not run on every frame or its result arrives late (with a detection on every
+  /// frame the flow only moves missed boxes and did not pay for its ~1 ms there).
+  std::string box_flow = "auto";
+  bool usesBoxFlow() const {
+    return usesKalman() && (box_flow == "on" || (box_flow == "auto" && (detect_every > 1 || detector_latency > 0)));
+  }
   bool usesKalman() const { return mode == DynamicMode::TK || mode == DynamicMode::TKG; }
   bool usesGeometry() const { return mode == DynamicMode::TG || mode == DynamicMode::TKG; }
 };

@@ -17,7 +17,7 @@ SlamSystem::SlamSystem(const SlamConfig& config)
     boxes_ = std::make_unique<dynamic::BoxPipeline>(
         config_.dynamic.detector, config_.dynamic.tracker,
         dynamic::BoxScheduleParams{config_.dynamic.detect_every, config_.dynamic.detector_latency,
-                                   config_.dynamic.usesKalman()});
+                                   config_.dynamic.usesKalman(), config_.dynamic.usesBoxFlow()});
   }
   tracker_ = std::make_unique<tracking::Tracker>(map_, camera_, extractor_.pyramid(), config_);
   mapper_ = std::make_unique<mapping::LocalMapper>(map_, camera_, extractor_.pyramid(), config_);
@@ -63,8 +63,9 @@ tracking::RefineKeypoints SlamSystem::filterDynamic(const io::RgbdImages& images
   };
 }
 
-void SlamSystem::scoreAgainstTruth(const cv::Mat& truth, const data::FrameFeatures& features) {
+int SlamSystem::scoreAgainstTruth(const cv::Mat& truth, const data::FrameFeatures& features) {
   ++classification_.frames;
+  const long missed_before = classification_.false_negative;
   const cv::Rect image(0, 0, truth.cols, truth.rows);
   for (int i = 0; i < features.size(); ++i) {
     const cv::Point p(cvRound(features.raw[i].pt.x), cvRound(features.raw[i].pt.y));
@@ -73,12 +74,13 @@ void SlamSystem::scoreAgainstTruth(const cv::Mat& truth, const data::FrameFeatur
     (truly ? (dropped ? classification_.true_positive : classification_.false_negative)
            : (dropped ? classification_.false_positive : classification_.true_negative))++;
   }
+  return int(classification_.false_negative - missed_before);
 }
 
 tracking::TrackResult SlamSystem::processFrame(const io::RgbdImages& images) {
   const auto t0 = std::chrono::steady_clock::now();
   // A scheduled detection runs on its own thread while this one extracts ORB features.
-  if (boxes_) boxes_->beginFrame(frames_, images.bgr);
+  if (boxes_) boxes_->beginFrame(frames_, images.bgr, images.depth_m);
   auto orb = extractor_.extract(images.gray);
   auto features = data::makeFrameFeatures(std::move(orb), images.bgr, images.depth_m, camera_, config_.depth);
   const double t_extract = msSince(t0);
@@ -93,7 +95,7 @@ tracking::TrackResult SlamSystem::processFrame(const io::RgbdImages& images) {
   auto result = tracker_->track(std::move(frame), mapping_thread_->idle(), mapping_thread_->queued(), refine);
   const double t_track = msSince(t1);
 
-  if (!images.truth_mask.empty()) scoreAgainstTruth(images.truth_mask, *features);
+  if (!images.truth_mask.empty()) info.missed_dynamic = scoreAgainstTruth(images.truth_mask, *features);
   if (boxes_) {
     info.timestamp = images.timestamp;
     info.keypoints = features->size();

@@ -30,6 +30,7 @@ struct DynamicFrameInfo {
   int dropped = 0;               ///< keypoints excluded in the end
   int readmitted = 0;            ///< in-box keypoints the geometry check found static
   bool geometry = false;         ///< the multi-view check ran
+  int missed_dynamic = -1;       ///< kept keypoints on the ground-truth mask (-1: no mask)
   std::vector<dynamic::Detection> boxes;
   std::vector<cv::Point2f> dropped_points;  ///< raw pixels of the excluded keypoints
 };
@@ -94,7 +95,8 @@ class SlamSystem {
   /// (empty unless the mode has it and the boxes cover at least tau of the image).
   tracking::RefineKeypoints filterDynamic(const io::RgbdImages& images, data::FrameFeatures& features,
                                           dynamic::BoxMask& box_mask, DynamicFrameInfo& info);
-  void scoreAgainstTruth(const cv::Mat& truth, const data::FrameFeatures& features);
+  /// Adds the frame's keypoints to classification_; returns how many on the mask were kept.
+  int scoreAgainstTruth(const cv::Mat& truth, const data::FrameFeatures& features);
 };
 
 }  // namespace tkgslam
