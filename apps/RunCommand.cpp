@@ -59,6 +59,7 @@ void writeDynamicDebug(const std::string& path, const std::vector<DynamicFrameIn
     }
     out << "]";
     if (f.missed_dynamic >= 0) out << fmt::format(", \"missed_dynamic\": {}", f.missed_dynamic);
+    if (f.late_culled > 0) out << fmt::format(", \"late_culled\": {}", f.late_culled);
     out << ", \"dropped_points\": [";
     for (size_t i = 0; i < f.dropped_points.size(); ++i) {
       out << fmt::format("{}[{:.0f}, {:.0f}]", i ? ", " : "", f.dropped_points[i].x, f.dropped_points[i].y);

@@ -80,9 +80,11 @@ std::vector<Detection> BoxPipeline::consume(Pending& p, long index, cv::Size ima
     tracker_ = std::move(p.tracker_before);
     auto moved = flowTo(p.frame);
     out = tracker_.update(detections, image, moved ? &*moved : nullptr);
+    late_boxes_.clear();
+    if (p.frame < index) late_boxes_.emplace_back(p.frame, out);
     for (long f = p.frame + 1; f < index; ++f) {
       moved = flowTo(f);
-      tracker_.predictAll(image, moved ? &*moved : nullptr);
+      late_boxes_.emplace_back(f, tracker_.predictAll(image, moved ? &*moved : nullptr));
     }
   } else {
     last_detections_ = std::move(detections);

@@ -53,6 +53,11 @@ class BoxPipeline {
   /// The boxes for the frame begun last, clipped to the image.
   std::vector<Detection> frameBoxes(cv::Size image, BoxTimings& timings);
 
+  /// Boxes of earlier frames, known only now that a late (asynchronous) detection arrived: one
+  /// entry per frame from the detected frame to the one before the current, oldest first.
+  /// Cleared by the call.
+  std::vector<std::pair<long, std::vector<Detection>>> takeLateBoxes() { return std::move(late_boxes_); }
+
  private:
   using Result = std::pair<std::vector<Detection>, double>;  // detections, inference ms
   struct Pending {
@@ -76,6 +81,7 @@ class BoxPipeline {
   std::deque<std::pair<long, FlowFrame>> flow_frames_;  ///< the last frames' pyramids, oldest first
   std::vector<Detection> last_detections_;  ///< without Kalman: reused until the next detection
   std::optional<Pending> pending_;
+  std::vector<std::pair<long, std::vector<Detection>>> late_boxes_;
   long index_ = -1;
   BoxTimings begin_timings_;  ///< waits in beginFrame, reported with the frame's boxes
 };

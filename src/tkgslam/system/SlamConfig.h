@@ -47,6 +47,9 @@ struct DynamicParams {
   /// detector does not run on every frame or its result arrives late (with a detection on every
   /// frame the flow only moves missed boxes and did not pay for its ~1 ms there).
   std::string box_flow = "auto";
+  /// Asynchronous detection: erase the map points that keyframes created inside the boxes of a
+  /// detection that arrived late (see SlamSystem::cullLateDynamicPoints).
+  bool late_culling = true;
   bool usesBoxFlow() const {
     return usesKalman() && (box_flow == "on" || (box_flow == "auto" && (detect_every > 1 || detector_latency > 0)));
   }

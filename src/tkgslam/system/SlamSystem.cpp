@@ -63,6 +63,32 @@ tracking::RefineKeypoints SlamSystem::filterDynamic(const io::RgbdImages& images
   };
 }
 
+int SlamSystem::cullLateDynamicPoints(const std::vector<std::pair<long, std::vector<dynamic::Detection>>>& late,
+                                      cv::Size image) {
+  if (late.empty()) return 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  int erased = 0;
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  for (const auto& kf : map_.keyFrames()) {
+    if (!kf->features || kf->frame_id < late.front().first || kf->frame_id > late.back().first) continue;
+    const auto& boxes = late[size_t(kf->frame_id - late.front().first)].second;
+    if (boxes.empty()) continue;
+    const cv::Mat mask = dynamic::rasterizeBoxes(boxes, image, config_.dynamic.box_margin).mask;
+    for (size_t i = 0; i < kf->map_points.size(); ++i) {
+      const auto mp = kf->map_points[i];  // a copy: erasing resets the slot
+      // Only points this keyframe created: older ones were mapped before the people arrived.
+      if (!mp || mp->bad || mp->first_keyframe_id != kf->id) continue;
+      const cv::Point p(cvRound(kf->features->raw[i].pt.x), cvRound(kf->features->raw[i].pt.y));
+      if (p.inside(cv::Rect(0, 0, mask.cols, mask.rows)) && mask.at<uchar>(p)) {
+        map_.eraseMapPoint(mp.get());
+        ++erased;
+      }
+    }
+  }
+  timing_.add("late_culling", msSince(t0));
+  return erased;
+}
+
 int SlamSystem::scoreAgainstTruth(const cv::Mat& truth, const data::FrameFeatures& features) {
   ++classification_.frames;
   const long missed_before = classification_.false_negative;
@@ -80,13 +106,18 @@ int SlamSystem::scoreAgainstTruth(const cv::Mat& truth, const data::FrameFeature
 tracking::TrackResult SlamSystem::processFrame(const io::RgbdImages& images) {
   const auto t0 = std::chrono::steady_clock::now();
   // A scheduled detection runs on its own thread while this one extracts ORB features.
-  if (boxes_) boxes_->beginFrame(frames_, images.bgr, images.depth_m);
+  int late_culled = 0;
+  if (boxes_) {
+    boxes_->beginFrame(frames_, images.bgr, images.depth_m);
+    if (config_.dynamic.late_culling) late_culled = cullLateDynamicPoints(boxes_->takeLateBoxes(), images.bgr.size());
+  }
   auto orb = extractor_.extract(images.gray);
   auto features = data::makeFrameFeatures(std::move(orb), images.bgr, images.depth_m, camera_, config_.depth);
   const double t_extract = msSince(t0);
 
   dynamic::BoxMask box_mask;
   DynamicFrameInfo info;
+  info.late_culled = late_culled;
   tracking::RefineKeypoints refine;
   if (boxes_) refine = filterDynamic(images, *features, box_mask, info);
 

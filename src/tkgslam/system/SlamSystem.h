@@ -29,6 +29,7 @@ struct DynamicFrameInfo {
   int keypoints = 0;
   int dropped = 0;               ///< keypoints excluded in the end
   int readmitted = 0;            ///< in-box keypoints the geometry check found static
+  int late_culled = 0;           ///< map points erased when a late detection arrived
   bool geometry = false;         ///< the multi-view check ran
   int missed_dynamic = -1;       ///< kept keypoints on the ground-truth mask (-1: no mask)
   std::vector<dynamic::Detection> boxes;
@@ -95,6 +96,11 @@ class SlamSystem {
   /// (empty unless the mode has it and the boxes cover at least tau of the image).
   tracking::RefineKeypoints filterDynamic(const io::RgbdImages& images, data::FrameFeatures& features,
                                           dynamic::BoxMask& box_mask, DynamicFrameInfo& info);
+  /// A late (asynchronous) detection shows where people were on frames already tracked: map
+  /// points that keyframes of those frames created inside the boxes are erased, so tracking
+  /// stops following the people. Returns how many.
+  int cullLateDynamicPoints(const std::vector<std::pair<long, std::vector<dynamic::Detection>>>& late,
+                            cv::Size image);
   /// Adds the frame's keypoints to classification_; returns how many on the mask were kept.
   int scoreAgainstTruth(const cv::Mat& truth, const data::FrameFeatures& features);
 };
