@@ -54,6 +54,7 @@ Action addAugmentCommand(CLI::App& app) {
   cmd->add_option("--speed", a.speed, "Peak walking speed, m/s")->default_val(0.3)->check(CLI::PositiveNumber);
   cmd->add_option("--blur", a.blur_probability, "Share of frames with motion blur")->default_val(0.0)
       ->check(CLI::Range(0.0, 1.0));
+  cmd->add_flag("--blur-people", a.blur_people_only, "Blur only the people (fast walkers), not the whole frame");
   cmd->add_option("--frames", a.max_frames, "Only the first N frames")->default_val(0)->check(CLI::NonNegativeNumber);
   return [o] { return runAugment(*o); };
 }

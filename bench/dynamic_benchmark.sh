@@ -2,7 +2,8 @@
 # Dynamic benchmark from real data (issue 5): composites of real people walking through the real
 # fr1_xyz sequence, every ablation mode on each and on the static original, tables like the
 # paper's Tables 1-4 in OUT/tables.md.
-#   bench/dynamic_benchmark.sh [OUT]        env: FRAMES (default 300), MODES, SEQ
+#   bench/dynamic_benchmark.sh [OUT]        env: FRAMES (default 300), MODES, SEQ, ONLY (sequence names to
+#                                           (re)run, e.g. "static high"; default all)
 # Every run uses --deterministic, so one run per cell is the median of any number of runs.
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -22,7 +23,8 @@ COMPOSITES=(
   "low|--count 1 --min-size 0.25 --max-size 0.4 --speed 0.15 --seed 11"
   "high|--count 3 --min-size 0.6 --max-size 0.95 --speed 0.4 --seed 12"
   "very_high|--count 3 --min-size 0.75 --max-size 1.0 --speed 0.4 --seed 14"
-  "high_blur|--count 3 --min-size 0.6 --max-size 0.95 --speed 0.4 --blur 0.3 --seed 13"
+  "high_blur|--count 3 --min-size 0.6 --max-size 0.95 --speed 0.4 --blur 0.3 --blur-people --seed 13"
+  "high_shake|--count 3 --min-size 0.6 --max-size 0.95 --speed 0.4 --blur 0.3 --seed 13"
   "extreme|--count 4 --min-size 0.8 --max-size 1.1 --speed 0.4 --seed 12"
 )
 for c in "${COMPOSITES[@]}"; do
@@ -45,9 +47,12 @@ run_one() {  # sequence-name dataset-dir mode
   "$BIN" eval --json --frames "$dir" "$dir/groundtruth.txt" "$res/trajectory.txt" > "$res/eval.json" 2> "$res/eval.err" ||
     echo '{}' > "$res/eval.json"
 }
-for mode in $MODES; do run_one static "$SEQ" "$mode"; done
+ONLY=${ONLY:-"static ${COMPOSITES[*]%%|*}"}
+selected() { [[ " $ONLY " == *" $1 "* ]]; }
+if selected static; then for mode in $MODES; do run_one static "$SEQ" "$mode"; done; fi
 for c in "${COMPOSITES[@]}"; do
   name=${c%%|*}
+  selected "$name" || continue
   for mode in $MODES; do run_one "$name" "$OUT/seq_$name" "$mode"; done
 done
 python3 "$ROOT/bench/make_tables.py" "$OUT" "$FRAMES" > "$OUT/tables.md"

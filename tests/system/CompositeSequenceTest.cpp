@@ -3,6 +3,8 @@
 #include <fstream>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "TestSupport.h"
 #include "tkgslam/eval/Ate.h"
@@ -88,6 +90,45 @@ TEST(CompositeSequence, SameSeedSameSequence) {
     EXPECT_EQ(test::readFile(e.path()), test::readFile(tmp / "b" / "rgb" / e.path().filename())) << e.path();
   }
   EXPECT_GT(test::readFile(tmp / "a" / "boxes.txt").size(), 100u);
+}
+
+/// Variance of the Laplacian over a mask: how sharp that part of the image is.
+double sharpness(const cv::Mat& bgr, const cv::Mat& mask) {
+  cv::Mat grey, lap;
+  cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+  cv::Laplacian(grey, lap, CV_32F);
+  cv::Scalar mean, sd;
+  cv::meanStdDev(lap, mean, sd, mask);
+  return sd[0] * sd[0];
+}
+
+TEST(CompositeSequence, BlurPeopleSmearsThePeopleAndLeavesTheBackgroundSharp) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  const std::string common = "augment -c " + (test::sourceDir() / "configs/tum_fr1.yaml").string() + " -d " +
+                             test::fr1xyz().string() + " -p " + (test::sharedDir() / "datasets/people").string() +
+                             " --count 2 --min-size 0.6 --max-size 0.8 --frames 4 --seed 5 --blur 1 -o ";
+  std::string out;
+  ASSERT_EQ(test::runCli(common + (tmp / "people").string() + " --blur-people", &out), 0) << out;
+  ASSERT_EQ(test::runCli(common + (tmp / "frame").string(), &out), 0) << out;
+  int checked = 0;
+  for (const auto& e : std::filesystem::directory_iterator(tmp / "people" / "masks")) {
+    const std::string stamp = e.path().stem().string();
+    const cv::Mat mask = cv::imread(e.path().string(), cv::IMREAD_GRAYSCALE);
+    if (cv::countNonZero(mask) < 5000) continue;
+    cv::Mat far;  // background well away from the people (the smear reaches 15 px past them)
+    cv::dilate(mask, far, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(81, 81)));
+    far = far == 0;
+    const cv::Mat people = cv::imread((tmp / "people" / "rgb" / (stamp + ".jpg")).string());
+    const cv::Mat frame = cv::imread((tmp / "frame" / "rgb" / (stamp + ".jpg")).string());
+    const cv::Mat raw = cv::imread((test::fr1xyz() / "rgb" / (stamp + ".jpg")).string());
+    ASSERT_FALSE(people.empty() || frame.empty() || raw.empty()) << stamp;
+    // The background keeps the original's sharpness (JPEG aside); the camera-shake blur loses it.
+    EXPECT_GT(sharpness(people, far), 0.7 * sharpness(raw, far)) << stamp;
+    EXPECT_LT(sharpness(frame, far), 0.5 * sharpness(raw, far)) << stamp;
+    ++checked;
+  }
+  EXPECT_GE(checked, 2);
 }
 
 }  // namespace

@@ -136,7 +136,8 @@ AugmentStats augmentSequence(const io::TumDataset& ds, const std::vector<io::Tra
       }
     }
     if (o.blur_probability > 0 && U(rng) < o.blur_probability) {
-      // Strong motion blur (camera shake) on the colour image: the detector tends to miss people.
+      // Strong motion blur on the colour image (camera shake), or on the people only (fast
+      // walkers): the detector tends to miss them.
       const int len = std::max(3, o.blur_kernel | 1);
       cv::Mat kernel = cv::Mat::zeros(len, len, CV_32F);
       const double angle = M_PI * U(rng);
@@ -144,7 +145,15 @@ AugmentStats augmentSequence(const io::TumDataset& ds, const std::vector<io::Tra
                cv::Point(int(len / 2 + std::cos(angle) * len / 2), int(len / 2 + std::sin(angle) * len / 2)),
                cv::Scalar(1.0), 1);
       kernel /= cv::sum(kernel)[0];
-      cv::filter2D(bgr, bgr, -1, kernel);
+      if (o.blur_people_only) {
+        cv::Mat blurred, region;
+        cv::filter2D(bgr, blurred, -1, kernel);
+        // The smear reaches past the person's outline by half the kernel.
+        cv::dilate(dyn_mask, region, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(len / 2 | 1, len / 2 | 1)));
+        blurred.copyTo(bgr, region);
+      } else {
+        cv::filter2D(bgr, bgr, -1, kernel);
+      }
       ++stats.blurred;
     }
     const std::string stamp = fmt::format("{:.6f}", frame.timestamp);

@@ -25,6 +25,9 @@ struct AugmentOptions {
   double speed = 0.3;         ///< m/s, peak walking speed across the view
   double blur_probability = 0.0;  ///< share of frames with strong motion blur (detector misses)
   int blur_kernel = 31;       ///< px, length of the motion-blur kernel
+  /// Blur only the people (a fast walker smeared in front of a sharp background: the detector
+  /// misses while the camera can still track) instead of the whole frame (camera shake).
+  bool blur_people_only = false;
   std::uint64_t seed = 1;
   int max_frames = 0;         ///< 0 = the whole sequence
   int jpeg_quality = 95;
