@@ -22,6 +22,7 @@ FlowFrame BoxFlow::prepare(const cv::Mat& image, const cv::Mat& depth_m) const {
   cv::Mat grey = image;
   if (image.channels() == 3) cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
   f.size = grey.size();
+  if (params_.scale != 1.0f) cv::resize(grey, grey, cv::Size(), params_.scale, params_.scale, cv::INTER_AREA);
   cv::buildOpticalFlowPyramid(grey, f.pyramid, cv::Size(params_.window, params_.window), params_.levels);
   return f;
 }
@@ -73,11 +74,15 @@ std::vector<std::optional<cv::Rect2f>> BoxFlow::propagate(const FlowFrame& from,
 
   const cv::Size window(params_.window, params_.window);
   const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 20, 0.03);
-  std::vector<cv::Point2f> forward, back;
+  std::vector<cv::Point2f> small, forward, back;
   std::vector<uchar> ok_f, ok_b;
   std::vector<float> err;
-  cv::calcOpticalFlowPyrLK(from.pyramid, to.pyramid, points, forward, ok_f, err, window, params_.levels, stop);
+  for (const auto& p : points) small.push_back(p * params_.scale);
+  cv::calcOpticalFlowPyrLK(from.pyramid, to.pyramid, small, forward, ok_f, err, window, params_.levels, stop);
   cv::calcOpticalFlowPyrLK(to.pyramid, from.pyramid, forward, back, ok_b, err, window, params_.levels, stop);
+  // Back to full-image pixels.
+  for (auto& p : forward) p /= params_.scale;
+  for (auto& p : back) p /= params_.scale;
 
   for (size_t b = 0; b < boxes.size(); ++b) {
     std::vector<size_t> good;

@@ -17,8 +17,9 @@ namespace tkgslam::dynamic {
 
 struct BoxFlowParams {
   int grid = 10;                ///< grid x grid points per box
-  int window = 21;              ///< LK window (pixels)
-  int levels = 3;               ///< pyramid levels above the image
+  float scale = 0.5f;           ///< flow runs on the image resized by this (speed; boxes are big)
+  int window = 15;              ///< LK window (pixels of the resized image)
+  int levels = 2;               ///< pyramid levels above the resized image
   float max_fb_error = 2.0f;    ///< forward-backward error (pixels) a point may have to vote
   int min_points = 8;           ///< fewer voting points: the box is not moved (no measurement)
   float max_scale_step = 0.02f; ///< the box grows or shrinks at most this much per frame
@@ -28,8 +29,8 @@ struct BoxFlowParams {
 
 /// One frame's image pyramid, built once and used for every box and both directions.
 struct FlowFrame {
-  std::vector<cv::Mat> pyramid;
-  cv::Size size;
+  std::vector<cv::Mat> pyramid;  ///< of the image resized by BoxFlowParams::scale
+  cv::Size size;                 ///< of the full image
   cv::Mat depth_m;  ///< CV_32F metres, 0 = invalid; empty: every point votes
 };
 
