@@ -31,6 +31,7 @@ struct RunOptions {
   int loops = 1;
   int detect_every = 0, detector_latency = -1, opencv_threads = -1;  // < default: keep the config's
   std::string box_flow;                                              // empty: keep the config's
+  bool lookahead = false;
 };
 
 std::atomic<bool> g_interrupted{false};
@@ -76,6 +77,7 @@ int runSlam(const RunOptions& o) {
   if (o.detector_latency >= 0) config.dynamic.detector_latency = o.detector_latency;
   if (o.opencv_threads >= 0) config.opencv_threads = o.opencv_threads;
   if (!o.box_flow.empty()) config.dynamic.box_flow = o.box_flow;
+  if (o.lookahead) config.dynamic.lookahead = true;
   io::TumDatasetOptions dopt;
   dopt.depth_factor = config.depth.factor;
   dopt.expected_width = config.camera.width;
@@ -99,6 +101,18 @@ int runSlam(const RunOptions& o) {
   // Ctrl-C stops after the current frame; everything computed so far is still written.
   g_interrupted = false;
   auto previous_handler = std::signal(SIGINT, onInterrupt);
+  // With lookahead a frame's outcome arrives some frames after the frame itself.
+  const auto logOutcome = [&](const FrameOutcome& f) {
+    using tracking::TrackingState;
+    if (!f.result.tracked) {
+      ++lost;
+      const bool uninit = f.state == TrackingState::NotInitialized;
+      frame_log << fmt::format("{:.6f} {} {}\n", f.timestamp, uninit ? "not_initialised" : "lost",
+                               uninit ? "too few keypoints with depth to start a map"
+                                      : "too few matches to track or relocalise");
+    }
+    if (f.result.new_segment) frame_log << fmt::format("{:.6f} new_segment a new map segment starts here\n", f.timestamp);
+  };
   for (int i = 0; i < n && !g_interrupted; ++i) {
     io::RgbdImages images;
     try {
@@ -111,16 +125,7 @@ int runSlam(const RunOptions& o) {
       continue;
     }
     ++processed;
-    const auto result = slam.processFrame(images);
-    if (!result.tracked) {
-      ++lost;
-      frame_log << fmt::format("{:.6f} {} {}\n", images.timestamp,
-                               slam.state() == tracking::TrackingState::NotInitialized ? "not_initialised" : "lost",
-                               slam.state() == tracking::TrackingState::NotInitialized
-                                   ? "too few keypoints with depth to start a map"
-                                   : "too few matches to track or relocalise");
-    }
-    if (result.new_segment) frame_log << fmt::format("{:.6f} new_segment a new map segment starts here\n", images.timestamp);
+    for (const auto& f : slam.processFrame(images)) logOutcome(f);
     if ((i + 1) % 100 == 0 || i + 1 == n) {
       memory_log << fmt::format("{}\t{:.1f}\t{}\t{}\n", i + 1, residentMemoryMiB(), slam.keyFrameCount(),
                                 slam.mapPointCount())
@@ -137,7 +142,7 @@ int runSlam(const RunOptions& o) {
     n = processed + skipped;  // the summary covers the frames actually read
     std::printf("interrupted after %d frames: writing what was computed\n", n);
   }
-  slam.finish();
+  for (const auto& f : slam.finish()) logOutcome(f);
 
   const auto traj = slam.trajectory();
   io::writeTumTrajectory((out / "trajectory.txt").string(), traj);
@@ -226,6 +231,8 @@ Action addRunCommand(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--box-flow", o->box_flow, "Move boxes by optical flow between detections: auto, on, off")
       ->check(CLI::IsMember({"auto", "on", "off"}));
+  cmd->add_flag("--lookahead", o->lookahead,
+                "Hold frames back until the next detection (boxes interpolated; poses N + L - 1 frames late)");
   cmd->add_option("--opencv-threads", o->opencv_threads, "OpenCV's thread pool size (0 = default)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--debug-dynamic", o->debug_dynamic,

@@ -12,7 +12,7 @@ SEQ=${SEQ:-"$ROOT/../shared/datasets/rgbd_dataset_freiburg1_xyz"}
 PEOPLE=${PEOPLE:-"$ROOT/../shared/datasets/people"}
 OUT=${1:-"$ROOT/out/dynamic_benchmark"}
 FRAMES=${FRAMES:-300}
-MODES=${MODES:-"orb T TK TG TKG TKGa"}   # TKGa = TKG with the asynchronous detector (see run_one)
+MODES=${MODES:-"orb T TK TG TKG TKGa TKGl"}   # TKGa/TKGl: asynchronous detector (see run_one)
 CFG="$ROOT/configs/tum_fr1.yaml"
 [ -x "$BIN" ] || { echo "build first: scripts/build.sh" >&2; exit 1; }
 [ -d "$SEQ" ] || { echo "sequence $SEQ not found" >&2; exit 1; }
@@ -41,6 +41,8 @@ run_one() {  # sequence-name dataset-dir mode
   # TKGa: YOLO on every 8th frame, each result used 8 frames later (tracking never waits for it),
   # OpenCV on one thread so the detector keeps to one core.
   [ "$mode" = TKGa ] && flags=(--mode TKG --detect-every 8 --detector-latency 8 --opencv-threads 1)
+  # TKGl: the same, frames held back until the next detection (boxes interpolated, poses 15 frames late).
+  [ "$mode" = TKGl ] && flags=(--mode TKG --detect-every 8 --detector-latency 8 --opencv-threads 1 --lookahead)
   mkdir -p "$res"
   echo "== $name / $mode"
   "$BIN" run -q --deterministic -c "$CFG" -d "$dir" -o "$res" "${flags[@]}" --max-frames "$FRAMES" > "$res/run.log" 2>&1

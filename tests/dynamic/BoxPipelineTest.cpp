@@ -1,5 +1,7 @@
 // The detection schedule: synchronous first frame, fixed latency afterwards, Kalman prediction in
 // between, and the same boxes whatever the thread timing (the result only depends on indices).
+#include <map>
+
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -107,6 +109,55 @@ TEST(BoxPipeline, BetweenLateDetectionsBoxesFollowTheImageByOpticalFlow) {
     EXPECT_GT(best, 0.85f) << "frame 9, expected near " << at9;
     ++checked;
   }
+  EXPECT_GE(checked, 2);
+}
+
+TEST(BoxPipeline, LookaheadBoxesPeopleBeforeTheDetectorFirstSeesThem) {
+  TKGSLAM_REQUIRE_SHARED();
+  const cv::Mat bus = cv::imread((test::sharedDir() / "datasets/people/bus.jpg").string());
+  ASSERT_FALSE(bus.empty());
+  // The camera pans left to right: the picture enters from the left, 50 px per frame, so the man on
+  // the left of bus.jpg walks into view from the border (black: nothing there yet) and stops at 4.
+  const auto shift = [](int i) { return -200.0f + 50.0f * std::min(i, 4); };
+  auto frame = [&](int i) {
+    cv::Mat out;
+    const cv::Mat m = (cv::Mat_<double>(2, 3) << 1, 0, shift(i), 0, 1, 0);
+    cv::warpAffine(bus, out, m, bus.size(), cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+    return out;
+  };
+  dynamic::BoxPipeline pipeline(detectorParams(), {}, {/*detect_every=*/4, /*latency=*/4, true, true, /*lookahead=*/true});
+  std::map<long, std::vector<dynamic::Detection>> boxes;
+  dynamic::BoxTimings t;
+  for (int i = 0; i < 10; ++i) {
+    const cv::Mat image = frame(i);
+    pipeline.beginFrame(i, image);
+    for (auto& [f, b] : pipeline.takeFinalBoxes(t)) boxes[f] = std::move(b);
+    // Frames are final only once the detection after them has arrived: on frame 4 (frame 0's),
+    // frame 8 (frames 1-4, detected on frame 4). None may come twice or out of order.
+    EXPECT_EQ(long(boxes.size()), i < 4 ? 0 : i < 8 ? 1 : 5) << "frame " << i;
+  }
+  for (auto& [f, b] : pipeline.flush(t)) boxes[f] = std::move(b);
+  ASSERT_EQ(boxes.size(), 10u);
+  // People detected on frame 4 but on no box of frame 0: they walked in meanwhile. Followed back
+  // by optical flow, they have boxes on frames 1-3, where they were (frame 4's box shifted back).
+  const cv::Rect2f image_rect(0, 0, float(bus.cols), float(bus.rows));
+  int entered = 0, checked = 0;
+  for (const auto& d : boxes[4]) {
+    if (d.predicted) continue;
+    bool seen_at_0 = false;
+    for (const auto& b0 : boxes[0]) seen_at_0 |= dynamic::iou(b0.box, d.box - cv::Point2f(200, 0)) > 0.3f;
+    if (seen_at_0) continue;
+    ++entered;
+    for (int f = 1; f <= 3; ++f) {
+      const cv::Rect2f expected = (d.box - cv::Point2f(50.0f * float(4 - f), 0)) & image_rect;
+      if (expected.area() < 0.02f * image_rect.area()) continue;
+      float best = 0;
+      for (const auto& b : boxes[f]) best = std::max(best, dynamic::iou(b.box, expected));
+      EXPECT_GT(best, 0.7f) << "frame " << f << ": expected a box near " << expected;
+      ++checked;
+    }
+  }
+  EXPECT_GE(entered, 1) << "the pan should bring someone new into view";
   EXPECT_GE(checked, 2);
 }
 

@@ -36,6 +36,17 @@ TEST(ConfigFile, MinimalConfigGetsDefaults) {
   EXPECT_EQ(c.orb.levels, 8);
 }
 
+TEST(ConfigFile, LookaheadOnlyWhereThereIsSomethingToLookAheadTo) {
+  const auto base = std::string(kMinimal) + "dynamic: {lookahead: true, ";
+  EXPECT_FALSE(io::parseConfig(kMinimal, "x").dynamic.usesLookahead());  // off by default
+  EXPECT_TRUE(io::parseConfig(base + "mode: TKG, detect_every: 8, detector_latency: 8}", "x").dynamic.usesLookahead());
+  EXPECT_TRUE(io::parseConfig(base + "mode: TK, detect_every: 4}", "x").dynamic.usesLookahead());
+  // Detection on every frame, or no Kalman tracker to carry the boxes: nothing to hold frames for.
+  EXPECT_FALSE(io::parseConfig(base + "mode: TKG}", "x").dynamic.usesLookahead());
+  EXPECT_FALSE(io::parseConfig(base + "mode: T, detect_every: 8, detector_latency: 8}", "x").dynamic.usesLookahead());
+  EXPECT_NE(errorOf(base + "mode: TKG, detect_every: 8, lookahed: 1}").find("lookahed"), std::string::npos);
+}
+
 TEST(ConfigFile, InvalidValuesAreClearErrors) {
   EXPECT_NE(errorOf("camera: {width: 640, height: 480, fx: 0, fy: 500, cx: 320, cy: 240}").find("fx and fy must be > 0"),
             std::string::npos);

@@ -13,6 +13,14 @@
 // With flow on, every track's box is also moved frame to frame by optical flow (BoxFlow) and the
 // Kalman filter fuses that with its constant-velocity prediction; the asynchronous path replays
 // the flow over the frames it rewinds (the pipeline keeps the last latency + 2 frames' pyramids).
+//
+//   lookahead (needs Kalman): the caller holds each frame back until the next detection after it
+//     has arrived, and only then asks for its boxes (takeFinalBoxes). Frames between detections
+//     k0 < k1 get the tracks' flow-and-Kalman boxes from k0, corrected linearly towards the
+//     detections at k1 (the prediction's error at k1 is spread over the gap), and people first
+//     detected at k1 are followed backwards by optical flow into the frames before, where they
+//     were already walking in but not yet detected. Costs the poses N + L - 1 frames of delay,
+//     not throughput: the detector of frame k1 still runs beside the tracking of earlier frames.
 #include <deque>
 #include <future>
 #include <memory>
@@ -31,6 +39,7 @@ struct BoxScheduleParams {
   int latency = 0;       ///< frames between starting a detection and using it (0 = same frame)
   bool use_kalman = true;  ///< false: the ablation without Kalman (boxes = last detections)
   bool use_flow = true;    ///< move the tracks' boxes by optical flow between frames (needs Kalman)
+  bool lookahead = false;  ///< boxes only once the next detection is known (needs Kalman and flow)
 };
 
 /// Times of one frame's box work, milliseconds (detector_ms < 0: no detection finished).
@@ -39,6 +48,9 @@ struct BoxTimings {
   double wait_ms = 0;       ///< time the caller blocked waiting for the detector
   double tracker_ms = 0;    ///< Kalman / Hungarian work
 };
+
+/// A frame index and its boxes.
+using FrameBoxes = std::pair<long, std::vector<Detection>>;
 
 class BoxPipeline {
  public:
@@ -56,7 +68,15 @@ class BoxPipeline {
   /// Boxes of earlier frames, known only now that a late (asynchronous) detection arrived: one
   /// entry per frame from the detected frame to the one before the current, oldest first.
   /// Cleared by the call.
-  std::vector<std::pair<long, std::vector<Detection>>> takeLateBoxes() { return std::move(late_boxes_); }
+  std::vector<FrameBoxes> takeLateBoxes() { return std::move(late_boxes_); }
+
+  /// Lookahead mode: the frames whose boxes became final with the frame begun last, oldest first
+  /// (none, or every frame up to a detection that arrived). `timings`: this frame's box work.
+  std::vector<FrameBoxes> takeFinalBoxes(BoxTimings& timings);
+  /// Lookahead mode, end of the sequence: waits for the detection in flight, and the frames after
+  /// it get the tracks' forward boxes; everything begun becomes final.
+  std::vector<FrameBoxes> flush(BoxTimings& timings);
+  bool lookahead() const { return schedule_.lookahead; }
 
  private:
   using Result = std::pair<std::vector<Detection>, double>;  // detections, inference ms
@@ -73,6 +93,14 @@ class BoxPipeline {
   /// frame not kept).
   std::optional<BoxTracker::Moved> flowTo(long frame) const;
   const FlowFrame* flowFrame(long frame) const;
+  /// Lookahead: the boxes of the frames after final_through_ up to the detection of p.frame
+  /// (see the class comment), appended to final_boxes_.
+  void finalizeThrough(Pending& p, cv::Size image, BoxTimings& timings);
+  /// Lookahead: predicted boxes for final_through_ + 1 .. last (no detection), made final.
+  void predictThrough(long last, cv::Size image, std::vector<FrameBoxes>& out);
+  /// Lookahead: a box first detected on frame k followed back by flow over frames k-1 .. first;
+  /// one box per frame reached, newest first (stops where the flow loses it).
+  std::vector<cv::Rect2f> followBack(const cv::Rect2f& box, long k, long first, cv::Size image) const;
 
   std::unique_ptr<YoloDetector> detector_;
   BoxScheduleParams schedule_;
@@ -81,7 +109,10 @@ class BoxPipeline {
   std::deque<std::pair<long, FlowFrame>> flow_frames_;  ///< the last frames' pyramids, oldest first
   std::vector<Detection> last_detections_;  ///< without Kalman: reused until the next detection
   std::optional<Pending> pending_;
-  std::vector<std::pair<long, std::vector<Detection>>> late_boxes_;
+  std::vector<FrameBoxes> late_boxes_;
+  std::vector<FrameBoxes> final_boxes_;  ///< lookahead: made final, not yet taken
+  long final_through_ = -1;              ///< lookahead: last frame whose boxes are final
+  cv::Size image_;                       ///< of the frames begun
   long index_ = -1;
   BoxTimings begin_timings_;  ///< waits in beginFrame, reported with the frame's boxes
 };

@@ -197,6 +197,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     s.get("detector_latency", c.dynamic.detector_latency);
     s.get("box_margin", c.dynamic.box_margin);
     s.get("box_flow", c.dynamic.box_flow);
+    s.get("lookahead", c.dynamic.lookahead);
     s.get("late_culling", c.dynamic.late_culling);
     auto& t = c.dynamic.tracker;
     s.get("kalman_q", t.kalman.q);

@@ -50,6 +50,11 @@ struct DynamicParams {
   /// Asynchronous detection: erase the map points that keyframes created inside the boxes of a
   /// detection that arrived late (see SlamSystem::cullLateDynamicPoints).
   bool late_culling = true;
+  /// Kalman modes with N > 1 or L > 0: hold each frame back until the next detection after it is
+  /// known, so that its boxes are interpolated between detections instead of extrapolated (see
+  /// BoxPipeline). Poses come out up to N + L - 1 frames late; throughput is unchanged.
+  bool lookahead = false;
+  bool usesLookahead() const { return lookahead && usesKalman() && (detect_every > 1 || detector_latency > 0); }
   bool usesBoxFlow() const {
     return usesKalman() && (box_flow == "on" || (box_flow == "auto" && (detect_every > 1 || detector_latency > 0)));
   }

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <mutex>
+#include <stdexcept>
 
 #include <opencv2/core/utility.hpp>
 
@@ -17,7 +18,8 @@ SlamSystem::SlamSystem(const SlamConfig& config)
     boxes_ = std::make_unique<dynamic::BoxPipeline>(
         config_.dynamic.detector, config_.dynamic.tracker,
         dynamic::BoxScheduleParams{config_.dynamic.detect_every, config_.dynamic.detector_latency,
-                                   config_.dynamic.usesKalman(), config_.dynamic.usesBoxFlow()});
+                                   config_.dynamic.usesKalman(), config_.dynamic.usesBoxFlow(),
+                                   config_.dynamic.usesLookahead()});
   }
   tracker_ = std::make_unique<tracking::Tracker>(map_, camera_, extractor_.pyramid(), config_);
   mapper_ = std::make_unique<mapping::LocalMapper>(map_, camera_, extractor_.pyramid(), config_);
@@ -28,11 +30,6 @@ SlamSystem::~SlamSystem() { mapping_thread_->stop(); }
 
 tracking::RefineKeypoints SlamSystem::filterDynamic(const io::RgbdImages& images, data::FrameFeatures& features,
                                                     dynamic::BoxMask& box_mask, DynamicFrameInfo& info) {
-  dynamic::BoxTimings bt;
-  info.boxes = boxes_->frameBoxes(images.bgr.size(), bt);
-  if (bt.detector_ms >= 0) timing_.add("detector", bt.detector_ms);
-  timing_.add("detector_wait", bt.wait_ms);
-  if (config_.dynamic.usesKalman()) timing_.add("box_tracker", bt.tracker_ms);
   box_mask = dynamic::rasterizeBoxes(info.boxes, images.bgr.size(), config_.dynamic.box_margin);
   info.box_ratio = box_mask.ratio;
   for (const auto& b : info.boxes) (b.predicted ? info.predicted : info.detected)++;
@@ -63,8 +60,13 @@ tracking::RefineKeypoints SlamSystem::filterDynamic(const io::RgbdImages& images
   };
 }
 
-int SlamSystem::cullLateDynamicPoints(const std::vector<std::pair<long, std::vector<dynamic::Detection>>>& late,
-                                      cv::Size image) {
+void SlamSystem::recordBoxTimings(const dynamic::BoxTimings& bt) {
+  if (bt.detector_ms >= 0) timing_.add("detector", bt.detector_ms);
+  timing_.add("detector_wait", bt.wait_ms);
+  if (config_.dynamic.usesKalman()) timing_.add("box_tracker", bt.tracker_ms);
+}
+
+int SlamSystem::cullLateDynamicPoints(const std::vector<dynamic::FrameBoxes>& late, cv::Size image) {
   if (late.empty()) return 0;
   const auto t0 = std::chrono::steady_clock::now();
   int erased = 0;
@@ -103,27 +105,41 @@ int SlamSystem::scoreAgainstTruth(const cv::Mat& truth, const data::FrameFeature
   return int(classification_.false_negative - missed_before);
 }
 
-tracking::TrackResult SlamSystem::processFrame(const io::RgbdImages& images) {
+SlamSystem::PreparedFrame SlamSystem::prepare(const io::RgbdImages& images) {
   const auto t0 = std::chrono::steady_clock::now();
+  PreparedFrame f;
+  f.index = frames_++;
+  f.images = images;
   // A scheduled detection runs on its own thread while this one extracts ORB features.
-  int late_culled = 0;
   if (boxes_) {
-    boxes_->beginFrame(frames_, images.bgr, images.depth_m);
-    if (config_.dynamic.late_culling) late_culled = cullLateDynamicPoints(boxes_->takeLateBoxes(), images.bgr.size());
+    boxes_->beginFrame(f.index, images.bgr, images.depth_m);
+    if (config_.dynamic.late_culling) f.late_culled = cullLateDynamicPoints(boxes_->takeLateBoxes(), images.bgr.size());
   }
   auto orb = extractor_.extract(images.gray);
-  auto features = data::makeFrameFeatures(std::move(orb), images.bgr, images.depth_m, camera_, config_.depth);
-  const double t_extract = msSince(t0);
+  f.features = data::makeFrameFeatures(std::move(orb), images.bgr, images.depth_m, camera_, config_.depth);
+  f.prepare_ms = msSince(t0);
+  timing_.add("orb_extraction", f.prepare_ms);
+  return f;
+}
 
+FrameOutcome SlamSystem::track(PreparedFrame& prepared, std::vector<dynamic::Detection> boxes) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const io::RgbdImages& images = prepared.images;
+  auto& features = prepared.features;
   dynamic::BoxMask box_mask;
   DynamicFrameInfo info;
-  info.late_culled = late_culled;
+  info.late_culled = prepared.late_culled;
+  info.boxes = std::move(boxes);
   tracking::RefineKeypoints refine;
   if (boxes_) refine = filterDynamic(images, *features, box_mask, info);
 
   const auto t1 = std::chrono::steady_clock::now();
-  data::Frame frame(frames_, images.timestamp, features);
-  auto result = tracker_->track(std::move(frame), mapping_thread_->idle(), mapping_thread_->queued(), refine);
+  data::Frame frame(prepared.index, images.timestamp, features);
+  FrameOutcome outcome;
+  outcome.index = prepared.index;
+  outcome.timestamp = images.timestamp;
+  outcome.result = tracker_->track(std::move(frame), mapping_thread_->idle(), mapping_thread_->queued(), refine);
+  outcome.state = tracker_->state();
   const double t_track = msSince(t1);
 
   if (!images.truth_mask.empty()) info.missed_dynamic = scoreAgainstTruth(images.truth_mask, *features);
@@ -139,19 +155,59 @@ tracking::TrackResult SlamSystem::processFrame(const io::RgbdImages& images) {
   }
 
   const auto t2 = std::chrono::steady_clock::now();
-  if (result.new_keyframe) mapping_thread_->insert(result.new_keyframe);
+  if (outcome.result.new_keyframe) mapping_thread_->insert(outcome.result.new_keyframe);
   const double t_map = msSince(t2);  // non-zero only when mapping runs synchronously
 
-  timing_.add("orb_extraction", t_extract);
   timing_.add("tracking", t_track);
-  timing_.add("orb_and_tracking", t_extract + t_track);
+  timing_.add("orb_and_tracking", prepared.prepare_ms + t_track);
   if (config_.deterministic) timing_.add("local_mapping_sync", t_map);
-  timing_.add("total", msSince(t0));
-  ++frames_;
-  return result;
+  timing_.add("total", prepared.prepare_ms + prepared.wait_ms + msSince(t0));
+  return outcome;
 }
 
-void SlamSystem::finish() { mapping_thread_->drain(); }
+void SlamSystem::trackHeld(std::vector<dynamic::FrameBoxes> final_boxes, std::vector<FrameOutcome>& out) {
+  for (auto& [index, boxes] : final_boxes) {
+    if (held_.empty() || held_.front().index != index) {
+      throw std::logic_error("lookahead: boxes for a frame that is not held back");
+    }
+    out.push_back(track(held_.front(), std::move(boxes)));
+    held_.pop_front();
+  }
+}
+
+std::vector<FrameOutcome> SlamSystem::processFrame(const io::RgbdImages& images) {
+  PreparedFrame prepared = prepare(images);
+  std::vector<FrameOutcome> out;
+  dynamic::BoxTimings bt;
+  if (boxes_ && boxes_->lookahead()) {
+    auto final_boxes = boxes_->takeFinalBoxes(bt);
+    recordBoxTimings(bt);
+    held_.push_back(std::move(prepared));
+    trackHeld(std::move(final_boxes), out);
+    return out;
+  }
+  std::vector<dynamic::Detection> boxes;
+  if (boxes_) {
+    const auto tb = std::chrono::steady_clock::now();
+    boxes = boxes_->frameBoxes(images.bgr.size(), bt);  // waits for a synchronous detection
+    recordBoxTimings(bt);
+    prepared.wait_ms = msSince(tb);
+  }
+  out.push_back(track(prepared, std::move(boxes)));
+  return out;
+}
+
+std::vector<FrameOutcome> SlamSystem::finish() {
+  std::vector<FrameOutcome> out;
+  if (boxes_ && boxes_->lookahead() && !held_.empty()) {
+    dynamic::BoxTimings bt;
+    auto final_boxes = boxes_->flush(bt);
+    recordBoxTimings(bt);
+    trackHeld(std::move(final_boxes), out);
+  }
+  mapping_thread_->drain();
+  return out;
+}
 
 std::vector<StampedPose> SlamSystem::trajectory() const {
   std::lock_guard<std::mutex> lock(map_.mutex());

@@ -1,6 +1,7 @@
 #pragma once
 // The RGB-D SLAM pipeline for one sequence: feature extraction, tracking, local mapping (on its
 // own thread unless deterministic), and the outputs (trajectories, map, timings).
+#include <deque>
 #include <memory>
 #include <string>
 #include <vector>
@@ -51,16 +52,26 @@ struct KeypointClassification {
   }
 };
 
+/// What tracking made of one frame.
+struct FrameOutcome {
+  long index = 0;  ///< frames handed to processFrame before this one
+  double timestamp = 0;
+  tracking::TrackResult result;
+  tracking::TrackingState state = tracking::TrackingState::NotInitialized;  ///< after the frame
+};
+
 class SlamSystem {
  public:
   /// Throws InputError for an invalid configuration.
   explicit SlamSystem(const SlamConfig& config);
   ~SlamSystem();
 
-  /// Processes one RGB-D frame; returns what tracking made of it.
-  tracking::TrackResult processFrame(const io::RgbdImages& images);
-  /// Waits for local mapping to finish the queued keyframes.
-  void finish();
+  /// Processes one RGB-D frame; returns what tracking made of the frames it tracked: this one, or
+  /// with dynamic.lookahead the held-back frames whose boxes became final (possibly none).
+  std::vector<FrameOutcome> processFrame(const io::RgbdImages& images);
+  /// Tracks the frames still held back (lookahead) and waits for local mapping to finish the
+  /// queued keyframes; returns the outcomes of the frames tracked here.
+  std::vector<FrameOutcome> finish();
 
   /// Camera-to-world poses of every tracked frame, with the latest keyframe corrections.
   std::vector<StampedPose> trajectory() const;
@@ -92,6 +103,24 @@ class SlamSystem {
   TimingStats timing_;
   int frames_ = 0;
 
+  /// A frame with its features, waiting for its boxes (lookahead) or tracked at once.
+  struct PreparedFrame {
+    long index = 0;
+    io::RgbdImages images;
+    std::shared_ptr<data::FrameFeatures> features;
+    double prepare_ms = 0;  ///< feature extraction and this frame's box work (flow, late detections)
+    double wait_ms = 0;     ///< waiting for a synchronous detection
+    int late_culled = 0;
+  };
+  std::deque<PreparedFrame> held_;  ///< lookahead: frames waiting for their boxes, oldest first
+
+  /// Starts the frame's box work (detector launch, flow, due detections) and extracts features.
+  PreparedFrame prepare(const io::RgbdImages& images);
+  /// Excludes the keypoints in `boxes`, tracks, hands a new keyframe to mapping.
+  FrameOutcome track(PreparedFrame& frame, std::vector<dynamic::Detection> boxes);
+  /// Tracks the held-back frames that `final_boxes` covers.
+  void trackHeld(std::vector<dynamic::FrameBoxes> final_boxes, std::vector<FrameOutcome>& out);
+  void recordBoxTimings(const dynamic::BoxTimings& bt);
   /// This frame's boxes -> excluded keypoints; returns the geometry step for the tracker
   /// (empty unless the mode has it and the boxes cover at least tau of the image).
   tracking::RefineKeypoints filterDynamic(const io::RgbdImages& images, data::FrameFeatures& features,
@@ -99,8 +128,7 @@ class SlamSystem {
   /// A late (asynchronous) detection shows where people were on frames already tracked: map
   /// points that keyframes of those frames created inside the boxes are erased, so tracking
   /// stops following the people. Returns how many.
-  int cullLateDynamicPoints(const std::vector<std::pair<long, std::vector<dynamic::Detection>>>& late,
-                            cv::Size image);
+  int cullLateDynamicPoints(const std::vector<dynamic::FrameBoxes>& late, cv::Size image);
   /// Adds the frame's keypoints to classification_; returns how many on the mask were kept.
   int scoreAgainstTruth(const cv::Mat& truth, const data::FrameFeatures& features);
 };
