@@ -32,6 +32,7 @@ struct RunOptions {
   int detect_every = 0, detector_latency = -1, opencv_threads = -1;  // < default: keep the config's
   std::string box_flow;                                              // empty: keep the config's
   bool lookahead = false;
+  int detector_tiles = 0;  // 0: keep the config's
 };
 
 std::atomic<bool> g_interrupted{false};
@@ -78,6 +79,10 @@ int runSlam(const RunOptions& o) {
   if (o.opencv_threads >= 0) config.opencv_threads = o.opencv_threads;
   if (!o.box_flow.empty()) config.dynamic.box_flow = o.box_flow;
   if (o.lookahead) config.dynamic.lookahead = true;
+  if (o.detector_tiles > 0) config.dynamic.detector_tiles = o.detector_tiles;
+  if (config.dynamic.detector_tiles > 1 && !config.dynamic.lookahead) {
+    throw InputError("--detector-tiles > 1 needs --lookahead (the tiles are frames still to be tracked)");
+  }
   io::TumDatasetOptions dopt;
   dopt.depth_factor = config.depth.factor;
   dopt.expected_width = config.camera.width;
@@ -233,6 +238,9 @@ Action addRunCommand(CLI::App& app) {
       ->check(CLI::IsMember({"auto", "on", "off"}));
   cmd->add_flag("--lookahead", o->lookahead,
                 "Hold frames back until the next detection (boxes interpolated; poses N + L - 1 frames late)");
+  cmd->add_option("--detector-tiles", o->detector_tiles,
+                  "With --lookahead: frames per detector run, tiled into one input (4 = 2x2 at half size)")
+      ->check(CLI::Range(1, 9));
   cmd->add_option("--opencv-threads", o->opencv_threads, "OpenCV's thread pool size (0 = default)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--debug-dynamic", o->debug_dynamic,

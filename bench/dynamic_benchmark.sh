@@ -12,7 +12,7 @@ SEQ=${SEQ:-"$ROOT/../shared/datasets/rgbd_dataset_freiburg1_xyz"}
 PEOPLE=${PEOPLE:-"$ROOT/../shared/datasets/people"}
 OUT=${1:-"$ROOT/out/dynamic_benchmark"}
 FRAMES=${FRAMES:-300}
-MODES=${MODES:-"orb T TK TG TKG TKGa TKGl"}   # TKGa/TKGl: asynchronous detector (see run_one)
+MODES=${MODES:-"orb T TK TG TKG TKGa TKGl TKGt"}   # TKGa/TKGl/TKGt: asynchronous detector (see run_one)
 CFG="$ROOT/configs/tum_fr1.yaml"
 [ -x "$BIN" ] || { echo "build first: scripts/build.sh" >&2; exit 1; }
 [ -d "$SEQ" ] || { echo "sequence $SEQ not found" >&2; exit 1; }
@@ -43,6 +43,9 @@ run_one() {  # sequence-name dataset-dir mode
   [ "$mode" = TKGa ] && flags=(--mode TKG --detect-every 8 --detector-latency 8 --opencv-threads 1)
   # TKGl: the same, frames held back until the next detection (boxes interpolated, poses 15 frames late).
   [ "$mode" = TKGl ] && flags=(--mode TKG --detect-every 8 --detector-latency 8 --opencv-threads 1 --lookahead)
+  # TKGt: lookahead with tiled runs: every 2nd frame detected, 4 frames (2x2, half size) per run,
+  # one run per 8 frames as above (poses 15 frames late).
+  [ "$mode" = TKGt ] && flags=(--mode TKG --detect-every 2 --detector-tiles 4 --detector-latency 8 --opencv-threads 1 --lookahead)
   mkdir -p "$res"
   echo "== $name / $mode"
   "$BIN" run -q --deterministic -c "$CFG" -d "$dir" -o "$res" "${flags[@]}" --max-frames "$FRAMES" > "$res/run.log" 2>&1

@@ -20,6 +20,9 @@ dynamic::DetectorParams detectorParams() {
   return p;
 }
 
+// The left man on bus.jpg (pixels of the photo, read off by eye), the picture shifted right by dx.
+cv::Rect2f kLeftManAt(float dx) { return cv::Rect2f(50 + dx, 398, 158, 500); }
+
 struct FrameOutput {
   std::vector<dynamic::Detection> boxes;
   dynamic::BoxTimings timings;
@@ -159,6 +162,48 @@ TEST(BoxPipeline, LookaheadBoxesPeopleBeforeTheDetectorFirstSeesThem) {
   }
   EXPECT_GE(entered, 1) << "the pan should bring someone new into view";
   EXPECT_GE(checked, 2);
+}
+
+TEST(BoxPipeline, TiledRunsDetectEachFrameOfTheGroup) {
+  TKGSLAM_REQUIRE_SHARED();
+  const cv::Mat bus = cv::imread((test::sharedDir() / "datasets/people/bus.jpg").string());
+  ASSERT_FALSE(bus.empty());
+  // The picture pans 20 px per frame; frames 0, 2, 4, 6 are detected in one run started on frame 6
+  // (tiles 4, every 2nd frame) and used 2 frames later.
+  auto frame = [&](int i) {
+    cv::Mat out;
+    const cv::Mat m = (cv::Mat_<double>(2, 3) << 1, 0, 20.0 * i, 0, 1, 0);
+    cv::warpAffine(bus, out, m, bus.size(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+    return out;
+  };
+  dynamic::BoxPipeline pipeline(detectorParams(), {},
+                                {/*detect_every=*/2, /*latency=*/2, true, true, /*lookahead=*/true, /*tiles=*/4});
+  std::map<long, std::vector<dynamic::Detection>> boxes;
+  dynamic::BoxTimings t;
+  int runs = 0;
+  for (int i = 0; i < 11; ++i) {
+    const cv::Mat image = frame(i);
+    pipeline.beginFrame(i, image);
+    for (auto& [f, b] : pipeline.takeFinalBoxes(t)) boxes[f] = std::move(b);
+    runs += t.detector_ms >= 0;
+    // Nothing is final before the first run arrives (frame 8); then frames 0-6 at once.
+    EXPECT_EQ(long(boxes.size()), i < 8 ? 0 : 7) << "frame " << i;
+  }
+  EXPECT_EQ(runs, 1);
+  for (auto& [f, b] : pipeline.flush(t)) boxes[f] = std::move(b);  // frames 8 and 10 detected here
+  ASSERT_EQ(boxes.size(), 11u);
+  // Each detected frame has the left man as a detection (not a prediction) where that frame
+  // shows him: a tile given to the wrong frame would be off by 40 px or more.
+  for (int f = 0; f <= 10; f += 2) {
+    const cv::Rect2f expected = kLeftManAt(20.0f * float(f));
+    float best = 0;
+    for (const auto& d : boxes[f]) {
+      if (!d.predicted && d.class_id == 0) best = std::max(best, dynamic::iou(d.box, expected));
+    }
+    EXPECT_GT(best, 0.75f) << "frame " << f;
+  }
+  EXPECT_THROW(dynamic::BoxPipeline(detectorParams(), {}, {2, 2, true, true, /*lookahead=*/false, 4}), InputError);
+  EXPECT_THROW(dynamic::BoxPipeline(detectorParams(), {}, {2, 9, true, true, true, 4}), InputError);
 }
 
 TEST(BoxPipeline, WithoutKalmanTheLastDetectionIsReused) {

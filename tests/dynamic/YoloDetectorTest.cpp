@@ -54,6 +54,38 @@ TEST(YoloDetector, NoPersonOnADeskWithoutPeople) {
   for (const auto& d : desk) EXPECT_NE(d.class_id, 0) << "person at " << d.box << " score " << d.score;
 }
 
+TEST(YoloDetector, TiledImagesAreEachDetectedInTheirOwnPixels) {
+  TKGSLAM_REQUIRE_SHARED();
+  dynamic::YoloDetector detector(params());
+  const cv::Mat bus = cv::imread((test::sharedDir() / "datasets/people/bus.jpg").string());
+  const cv::Mat zidane = cv::imread((test::sharedDir() / "datasets/people/zidane.jpg").string());
+  const cv::Mat fr1 = cv::imread((test::fr1xyz() / "rgb" / "1305031102.175304.jpg").string());
+  ASSERT_FALSE(bus.empty() || zidane.empty() || fr1.empty());
+  const cv::Mat desk = fr1(cv::Rect(0, 160, 640, 320)).clone();
+  // One image: exactly detect().
+  const auto single = detector.detectTiles({bus});
+  const auto full_bus = detector.detect(bus);
+  ASSERT_EQ(single.size(), 1u);
+  ASSERT_EQ(single[0].size(), full_bus.size());
+  for (size_t i = 0; i < full_bus.size(); ++i) EXPECT_EQ(single[0][i].box, full_bus[i].box);
+  // Four images of different sizes in one 2 x 2 input: the persons of each are found at half
+  // resolution, in that image's pixels, and none leaks into the desk's tile.
+  const auto tiled = detector.detectTiles({zidane, desk, bus, fr1});
+  ASSERT_EQ(tiled.size(), 4u);
+  EXPECT_GE(bestIou(tiled[2], 0, kLeftMan), 0.5f);
+  EXPECT_GE(bestIou(tiled[2], 0, kMiddleMan), 0.5f);
+  EXPECT_GE(bestIou(tiled[2], 0, kRightMan), 0.5f);
+  for (const auto& d : tiled[1]) EXPECT_NE(d.class_id, 0) << "person on the desk at " << d.box;
+  for (const cv::Mat* img : {&zidane, &fr1}) {
+    const auto& mine = tiled[img == &zidane ? 0 : 3];
+    for (const auto& d : detector.detect(*img)) {
+      if (d.class_id == 0 && d.score > 0.5f) {
+        EXPECT_GE(bestIou(mine, 0, d.box), 0.5f) << "full-size person " << d.box;
+      }
+    }
+  }
+}
+
 TEST(YoloDetector, MissingOrMalformedModelIsAClearError) {
   dynamic::DetectorParams p;
   p.model = "/nonexistent/model.onnx";

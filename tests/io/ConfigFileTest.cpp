@@ -45,6 +45,17 @@ TEST(ConfigFile, LookaheadOnlyWhereThereIsSomethingToLookAheadTo) {
   EXPECT_FALSE(io::parseConfig(base + "mode: TKG}", "x").dynamic.usesLookahead());
   EXPECT_FALSE(io::parseConfig(base + "mode: T, detect_every: 8, detector_latency: 8}", "x").dynamic.usesLookahead());
   EXPECT_NE(errorOf(base + "mode: TKG, detect_every: 8, lookahed: 1}").find("lookahed"), std::string::npos);
+  // Tiled detector runs: the latency may reach a whole run period (detect_every x tiles).
+  const auto tiled = io::parseConfig(base + "mode: TKG, detect_every: 2, detector_latency: 8, detector_tiles: 4}", "x");
+  EXPECT_TRUE(tiled.dynamic.usesLookahead());
+  EXPECT_EQ(tiled.dynamic.usesTiles(), 4);
+  EXPECT_TRUE(io::parseConfig(base + "mode: TKG, detector_tiles: 4}", "x").dynamic.usesLookahead());
+  EXPECT_EQ(io::parseConfig(base + "mode: T, detector_tiles: 4}", "x").dynamic.usesTiles(), 1);  // no Kalman
+  EXPECT_NE(errorOf(base + "mode: TKG, detect_every: 2, detector_latency: 9, detector_tiles: 4}").find("detect_every x detector_tiles"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {mode: TKG, detector_tiles: 4}").find("needs dynamic.lookahead"),
+            std::string::npos);
+  EXPECT_NE(errorOf(base + "mode: TKG, detector_tiles: 10}").find("detector_tiles must be in [1, 9]"), std::string::npos);
 }
 
 TEST(ConfigFile, InvalidValuesAreClearErrors) {

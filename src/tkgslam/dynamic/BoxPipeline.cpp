@@ -14,9 +14,15 @@ BoxPipeline::BoxPipeline(const DetectorParams& detector, const BoxTrackerParams&
                          const BoxScheduleParams& schedule)
     : schedule_(schedule), tracker_(tracker) {
   if (schedule_.detect_every < 1) throw InputError("dynamic.detect_every must be >= 1");
-  if (schedule_.latency < 0 || schedule_.latency > schedule_.detect_every) {
-    throw InputError(fmt::format("dynamic.detector_latency must be in [0, detect_every = {}], got {}",
-                                 schedule_.detect_every, schedule_.latency));
+  if (schedule_.tiles < 1 || schedule_.tiles > 9) throw InputError("dynamic.detector_tiles must be in [1, 9]");
+  if (schedule_.tiles > 1 && !schedule_.lookahead) throw InputError("dynamic.detector_tiles > 1 needs lookahead");
+  const int period = schedule_.detect_every * schedule_.tiles;  // frames per detector run
+  if (schedule_.latency < 0 || schedule_.latency > period) {
+    throw InputError(schedule_.tiles == 1
+                         ? fmt::format("dynamic.detector_latency must be in [0, detect_every = {}], got {}",
+                                       schedule_.detect_every, schedule_.latency)
+                         : fmt::format("dynamic.detector_latency must be in [0, detect_every x detector_tiles = {}], got {}",
+                                       period, schedule_.latency));
   }
   if (schedule_.lookahead && !schedule_.use_kalman) throw InputError("dynamic.lookahead needs a Kalman mode (TK, TKG)");
   detector_ = std::make_unique<YoloDetector>(detector);
@@ -57,27 +63,38 @@ void BoxPipeline::beginFrame(long index, const cv::Mat& bgr, const cv::Mat& dept
   // (one detection in flight at a time, so it never competes with itself for the cores).
   if (pending_ && schedule_.latency > 0 && index >= pending_->frame + schedule_.latency) {
     if (schedule_.lookahead) {
-      finalizeThrough(*pending_, image_, begin_timings_);
+      finalize(*pending_, begin_timings_);
     } else {
       consume(*pending_, index, image_, begin_timings_);
     }
     pending_.reset();
   }
   if (index % schedule_.detect_every != 0) return;
+  tile_frames_.emplace_back(index, bgr);
+  if (int(tile_frames_.size()) < schedule_.tiles) return;
+  launch();
+  if (schedule_.lookahead && schedule_.latency == 0) {  // used on its own frame: wait for it
+    finalize(*pending_, begin_timings_);
+    pending_.reset();
+  }
+}
+
+void BoxPipeline::launch() {
   Pending p;
-  p.frame = index;
+  p.frame = tile_frames_.back().first;
   p.tracker_before = tracker_;
-  // The task keeps its own reference to the image (cv::Mat is reference counted).
-  p.result = std::async(std::launch::async, [this, image = bgr] {
+  std::vector<cv::Mat> images;
+  for (auto& [f, bgr] : tile_frames_) {
+    p.tiles.push_back(f);
+    images.push_back(bgr);  // the task keeps its own references (cv::Mat is reference counted)
+  }
+  tile_frames_.clear();
+  p.result = std::async(std::launch::async, [this, images = std::move(images)] {
     const auto t0 = std::chrono::steady_clock::now();
-    auto dets = detector_->detect(image);
+    auto dets = detector_->detectTiles(images);
     return Result(std::move(dets), msSince(t0));
   });
   pending_ = std::move(p);
-  if (schedule_.lookahead && schedule_.latency == 0) {  // used on its own frame: wait for it
-    finalizeThrough(*pending_, image_, begin_timings_);
-    pending_.reset();
-  }
 }
 
 std::vector<cv::Rect2f> BoxPipeline::followBack(const cv::Rect2f& box, long k, long first, cv::Size image) const {
@@ -106,16 +123,21 @@ void BoxPipeline::predictThrough(long last, cv::Size image, std::vector<FrameBox
   final_through_ = std::max(final_through_, last);
 }
 
-void BoxPipeline::finalizeThrough(Pending& p, cv::Size image, BoxTimings& timings) {
+void BoxPipeline::finalize(Pending& p, BoxTimings& timings) {
   const auto tw = std::chrono::steady_clock::now();
-  auto [detections, ms] = p.result.get();
+  auto [per_tile, ms] = p.result.get();
   timings.wait_ms += msSince(tw);
   timings.detector_ms = ms;
+  for (size_t j = 0; j < p.tiles.size(); ++j) finalizeThrough(p.tiles[j], per_tile[j], image_, timings);
+}
+
+void BoxPipeline::finalizeThrough(long frame, const std::vector<Detection>& detections, cv::Size image,
+                                  BoxTimings& timings) {
   const auto tt = std::chrono::steady_clock::now();
   const long start = final_through_;  // the box tracker's frame
-  std::vector<FrameBoxes> span;       // start + 1 .. p.frame - 1: forward boxes
-  predictThrough(p.frame - 1, image, span);
-  const auto moved = flowTo(p.frame);
+  std::vector<FrameBoxes> span;       // start + 1 .. frame - 1: forward boxes
+  predictThrough(frame - 1, image, span);
+  const auto moved = flowTo(frame);
   BoxTracker probe = tracker_;  // where the tracks would be without the detection
   const auto predicted = probe.predictAll(image, moved ? &*moved : nullptr);
   auto out = tracker_.update(detections, image, moved ? &*moved : nullptr);
@@ -127,7 +149,7 @@ void BoxPipeline::finalizeThrough(Pending& p, cv::Size image, BoxTimings& timing
     if (q != predicted.end()) {
       // The prediction's error at the detection, spread linearly over the frames since `start`.
       for (auto& [f, boxes] : span) {
-        const float w = float(f - start) / float(p.frame - start);
+        const float w = float(f - start) / float(frame - start);
         for (auto& b : boxes) {
           if (b.track_id != d.track_id) continue;
           b.box.x += w * (d.box.x - q->box.x);
@@ -139,7 +161,7 @@ void BoxPipeline::finalizeThrough(Pending& p, cv::Size image, BoxTimings& timing
       }
     } else {
       // First seen now: it was walking in before the detector caught it.
-      const auto back = followBack(d.box, p.frame, start + 1, image);
+      const auto back = followBack(d.box, frame, start + 1, image);
       for (size_t j = 0; j < back.size(); ++j) {
         Detection b = d;
         b.box = back[j];
@@ -153,8 +175,8 @@ void BoxPipeline::finalizeThrough(Pending& p, cv::Size image, BoxTimings& timing
                 boxes.end());
     final_boxes_.emplace_back(f, std::move(boxes));
   }
-  final_boxes_.emplace_back(p.frame, std::move(out));
-  final_through_ = p.frame;
+  final_boxes_.emplace_back(frame, std::move(out));
+  final_through_ = frame;
   timings.tracker_ms += msSince(tt);
 }
 
@@ -166,7 +188,12 @@ std::vector<FrameBoxes> BoxPipeline::takeFinalBoxes(BoxTimings& timings) {
 std::vector<FrameBoxes> BoxPipeline::flush(BoxTimings& timings) {
   timings = {};
   if (pending_) {
-    finalizeThrough(*pending_, image_, timings);
+    finalize(*pending_, timings);
+    pending_.reset();
+  }
+  if (!tile_frames_.empty()) {  // a group the sequence ended in: detect what there is
+    launch();
+    finalize(*pending_, timings);
     pending_.reset();
   }
   const auto tt = std::chrono::steady_clock::now();
@@ -177,7 +204,8 @@ std::vector<FrameBoxes> BoxPipeline::flush(BoxTimings& timings) {
 
 std::vector<Detection> BoxPipeline::consume(Pending& p, long index, cv::Size image, BoxTimings& timings) {
   const auto tw = std::chrono::steady_clock::now();
-  auto [detections, ms] = p.result.get();
+  auto [per_tile, ms] = p.result.get();
+  auto& detections = per_tile.front();
   timings.wait_ms += msSince(tw);
   timings.detector_ms = ms;
   const auto tt = std::chrono::steady_clock::now();

@@ -21,6 +21,11 @@
 //     detected at k1 are followed backwards by optical flow into the frames before, where they
 //     were already walking in but not yet detected. Costs the poses N + L - 1 frames of delay,
 //     not throughput: the detector of frame k1 still runs beside the tracking of earlier frames.
+//   tiles M > 1 (lookahead only): the detect_every-th frames are detected in groups of M with one
+//     detector run on an input that tiles the M frames (YoloDetector::detectTiles), started when
+//     the group's last frame begins; the run's latency counts from there. M = 4 and N = 2 cost one
+//     run per 8 frames like N = 8, but every second frame gets a detection (at half resolution,
+//     where YOLOv5n finds large people at least as well as at full size).
 #include <deque>
 #include <future>
 #include <memory>
@@ -40,6 +45,7 @@ struct BoxScheduleParams {
   bool use_kalman = true;  ///< false: the ablation without Kalman (boxes = last detections)
   bool use_flow = true;    ///< move the tracks' boxes by optical flow between frames (needs Kalman)
   bool lookahead = false;  ///< boxes only once the next detection is known (needs Kalman and flow)
+  int tiles = 1;           ///< frames per detector run (> 1 needs lookahead)
 };
 
 /// Times of one frame's box work, milliseconds (detector_ms < 0: no detection finished).
@@ -54,7 +60,8 @@ using FrameBoxes = std::pair<long, std::vector<Detection>>;
 
 class BoxPipeline {
  public:
-  /// Throws InputError for a bad model or schedule (latency > detect_every, detect_every < 1).
+  /// Throws InputError for a bad model or schedule (detect_every < 1, latency outside
+  /// [0, detect_every x tiles], tiles outside [1, 9] or > 1 without lookahead).
   BoxPipeline(const DetectorParams& detector, const BoxTrackerParams& tracker, const BoxScheduleParams& schedule);
   ~BoxPipeline();
 
@@ -79,9 +86,10 @@ class BoxPipeline {
   bool lookahead() const { return schedule_.lookahead; }
 
  private:
-  using Result = std::pair<std::vector<Detection>, double>;  // detections, inference ms
+  using Result = std::pair<std::vector<std::vector<Detection>>, double>;  // per tile, inference ms
   struct Pending {
-    long frame = -1;
+    long frame = -1;          ///< the frame the run was started on (its last tile)
+    std::vector<long> tiles;  ///< the frames detected, oldest first
     std::future<Result> result;
     BoxTracker tracker_before;  ///< box tracker state just before `frame`
   };
@@ -93,9 +101,13 @@ class BoxPipeline {
   /// frame not kept).
   std::optional<BoxTracker::Moved> flowTo(long frame) const;
   const FlowFrame* flowFrame(long frame) const;
-  /// Lookahead: the boxes of the frames after final_through_ up to the detection of p.frame
-  /// (see the class comment), appended to final_boxes_.
-  void finalizeThrough(Pending& p, cv::Size image, BoxTimings& timings);
+  /// Starts the detector on the frames in tile_frames_ (which it empties).
+  void launch();
+  /// Lookahead: waits for the run and finalizes the frames through its last tile.
+  void finalize(Pending& p, BoxTimings& timings);
+  /// Lookahead: the boxes of the frames after final_through_ up to `frame`, which has the
+  /// detections `detections` (see the class comment), appended to final_boxes_.
+  void finalizeThrough(long frame, const std::vector<Detection>& detections, cv::Size image, BoxTimings& timings);
   /// Lookahead: predicted boxes for final_through_ + 1 .. last (no detection), made final.
   void predictThrough(long last, cv::Size image, std::vector<FrameBoxes>& out);
   /// Lookahead: a box first detected on frame k followed back by flow over frames k-1 .. first;
@@ -109,6 +121,7 @@ class BoxPipeline {
   std::deque<std::pair<long, FlowFrame>> flow_frames_;  ///< the last frames' pyramids, oldest first
   std::vector<Detection> last_detections_;  ///< without Kalman: reused until the next detection
   std::optional<Pending> pending_;
+  std::vector<std::pair<long, cv::Mat>> tile_frames_;  ///< frames waiting for the next run (BGR)
   std::vector<FrameBoxes> late_boxes_;
   std::vector<FrameBoxes> final_boxes_;  ///< lookahead: made final, not yet taken
   long final_through_ = -1;              ///< lookahead: last frame whose boxes are final

@@ -1,6 +1,7 @@
 #include "tkgslam/dynamic/YoloDetector.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include <fmt/format.h>
@@ -59,25 +60,44 @@ YoloDetector::YoloDetector(const DetectorParams& params) : params_(params) {
   }
 }
 
-std::vector<Detection> YoloDetector::detect(const cv::Mat& bgr) {
-  if (bgr.empty() || bgr.type() != CV_8UC3) throw InputError("detector: expects an 8-bit BGR image");
+std::vector<Detection> YoloDetector::detect(const cv::Mat& bgr) { return detectTiles({bgr}).front(); }
+
+std::vector<std::vector<Detection>> YoloDetector::detectTiles(const std::vector<cv::Mat>& images) {
+  if (images.empty()) return {};
+  for (const auto& bgr : images) {
+    if (bgr.empty() || bgr.type() != CV_8UC3) throw InputError("detector: expects 8-bit BGR images");
+  }
   const int S = params_.input_size;
-  const float r = std::min(float(S) / bgr.cols, float(S) / bgr.rows);
-  const int nw = int(std::lround(bgr.cols * r)), nh = int(std::lround(bgr.rows * r));
-  const int pad_x = (S - nw) / 2, pad_y = (S - nh) / 2;
-  cv::Mat letterbox(S, S, CV_8UC3, cv::Scalar(114, 114, 114));
-  cv::resize(bgr, letterbox(cv::Rect(pad_x, pad_y, nw, nh)), cv::Size(nw, nh), 0, 0, cv::INTER_LINEAR);
+  const int grid = int(std::ceil(std::sqrt(double(images.size()) - 1e-9)));
+  const int cell = S / grid;
+  // Each image letterboxed into its square cell of the network input.
+  struct Placement {
+    float r;
+    int x0, y0;  // the image's top-left corner in the input
+  };
+  std::vector<Placement> place;
+  cv::Mat input(S, S, CV_8UC3, cv::Scalar(114, 114, 114));
+  for (size_t i = 0; i < images.size(); ++i) {
+    const cv::Mat& bgr = images[i];
+    const float r = std::min(float(cell) / bgr.cols, float(cell) / bgr.rows);
+    const int nw = int(std::lround(bgr.cols * r)), nh = int(std::lround(bgr.rows * r));
+    const int cx = int(i % grid) * cell, cy = int(i / grid) * cell;
+    const Placement pl{r, cx + (cell - nw) / 2, cy + (cell - nh) / 2};
+    cv::resize(bgr, input(cv::Rect(pl.x0, pl.y0, nw, nh)), cv::Size(nw, nh), 0, 0, cv::INTER_LINEAR);
+    place.push_back(pl);
+  }
   cv::Mat out;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    net_.setInput(cv::dnn::blobFromImage(letterbox, 1.0 / 255.0, cv::Size(), cv::Scalar(), true, false));
+    net_.setInput(cv::dnn::blobFromImage(input, 1.0 / 255.0, cv::Size(), cv::Scalar(), true, false));
     out = net_.forward();
   }
   const int rows = out.size[1], cols = out.size[2];
   const int num_classes = cols - 5;
   const float min_conf = std::min(params_.confidence, params_.person_confidence);
-  std::vector<std::vector<cv::Rect2d>> boxes(num_classes);
-  std::vector<std::vector<float>> scores(num_classes);
+  // [image][class] candidate boxes (image pixels) and scores.
+  std::vector<std::vector<std::vector<cv::Rect2d>>> boxes(images.size(), std::vector<std::vector<cv::Rect2d>>(num_classes));
+  std::vector<std::vector<std::vector<float>>> scores(images.size(), std::vector<std::vector<float>>(num_classes));
   const float* data = out.ptr<float>();
   for (int i = 0; i < rows; ++i) {
     const float* row = data + size_t(i) * cols;
@@ -88,29 +108,37 @@ std::vector<Detection> YoloDetector::detect(const cv::Mat& bgr) {
     if (!wanted_[best]) continue;
     const float score = obj * cls[best];
     if (score < (best == 0 ? params_.person_confidence : params_.confidence)) continue;
-    const float x = (row[0] - 0.5f * row[2] - pad_x) / r, y = (row[1] - 0.5f * row[3] - pad_y) / r;
-    boxes[best].emplace_back(x, y, row[2] / r, row[3] / r);
-    scores[best].push_back(score);
+    // The cell that holds the box centre says which image it belongs to.
+    const int gx = std::clamp(int(row[0]) / cell, 0, grid - 1), gy = std::clamp(int(row[1]) / cell, 0, grid - 1);
+    const size_t img = size_t(gy * grid + gx);
+    if (img >= images.size()) continue;
+    const Placement& pl = place[img];
+    const float x = (row[0] - 0.5f * row[2] - pl.x0) / pl.r, y = (row[1] - 0.5f * row[3] - pl.y0) / pl.r;
+    boxes[img][best].emplace_back(x, y, row[2] / pl.r, row[3] / pl.r);
+    scores[img][best].push_back(score);
   }
-  std::vector<Detection> dets;
-  const cv::Rect2f image(0, 0, float(bgr.cols), float(bgr.rows));
-  for (int c = 0; c < num_classes; ++c) {
-    if (boxes[c].empty()) continue;
-    std::vector<int> keep;
-    cv::dnn::NMSBoxes(boxes[c], scores[c], 0.0f, params_.nms, keep);
-    for (int k : keep) {
-      Detection d;
-      d.box = cv::Rect2f(boxes[c][k]) & image;
-      d.class_id = c;
-      d.score = scores[c][k];
-      if (d.box.area() > 0) dets.push_back(d);
+  std::vector<std::vector<Detection>> result(images.size());
+  for (size_t img = 0; img < images.size(); ++img) {
+    auto& dets = result[img];
+    const cv::Rect2f frame(0, 0, float(images[img].cols), float(images[img].rows));
+    for (int c = 0; c < num_classes; ++c) {
+      if (boxes[img][c].empty()) continue;
+      std::vector<int> keep;
+      cv::dnn::NMSBoxes(boxes[img][c], scores[img][c], 0.0f, params_.nms, keep);
+      for (int k : keep) {
+        Detection d;
+        d.box = cv::Rect2f(boxes[img][c][k]) & frame;
+        d.class_id = c;
+        d.score = scores[img][c][k];
+        if (d.box.area() > 0) dets.push_back(d);
+      }
     }
+    std::sort(dets.begin(), dets.end(), [](const Detection& a, const Detection& b) {
+      if (a.score != b.score) return a.score > b.score;
+      return a.box.x < b.box.x;
+    });
   }
-  std::sort(dets.begin(), dets.end(), [](const Detection& a, const Detection& b) {
-    if (a.score != b.score) return a.score > b.score;
-    return a.box.x < b.box.x;
-  });
-  return dets;
+  return result;
 }
 
 }  // namespace tkgslam::dynamic

@@ -32,6 +32,11 @@ class YoloDetector {
 
   /// Detects dynamic objects in a BGR image. Serialised internally (one forward pass at a time).
   std::vector<Detection> detect(const cv::Mat& bgr);
+  /// Detects in several images with one forward pass: the images are tiled into a square grid
+  /// (2 x 2 for 2-4 images; each at 1/grid of the input size), so each is seen at a lower
+  /// resolution for the price of one. Boxes are assigned to the image whose tile holds their
+  /// centre; one result per image, in its own pixels. One image: the same as detect().
+  std::vector<std::vector<Detection>> detectTiles(const std::vector<cv::Mat>& images);
 
   const DetectorParams& params() const { return params_; }
 

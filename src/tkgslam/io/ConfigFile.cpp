@@ -198,6 +198,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     s.get("box_margin", c.dynamic.box_margin);
     s.get("box_flow", c.dynamic.box_flow);
     s.get("lookahead", c.dynamic.lookahead);
+    s.get("detector_tiles", c.dynamic.detector_tiles);
     s.get("late_culling", c.dynamic.late_culling);
     auto& t = c.dynamic.tracker;
     s.get("kalman_q", t.kalman.q);
@@ -225,8 +226,13 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
             "dynamic.box_flow must be auto, on or off");
     require(c.dynamic.detect_every >= 1, source, "dynamic.detect_every must be >= 1");
     require(c.dynamic.box_margin >= 0 && c.dynamic.box_margin <= 0.5, source, "dynamic.box_margin must be in [0, 0.5]");
-    require(c.dynamic.detector_latency >= 0 && c.dynamic.detector_latency <= c.dynamic.detect_every, source,
-            "dynamic.detector_latency must be in [0, detect_every]");
+    require(c.dynamic.detector_tiles >= 1 && c.dynamic.detector_tiles <= 9, source,
+            "dynamic.detector_tiles must be in [1, 9]");
+    require(c.dynamic.detector_tiles == 1 || c.dynamic.lookahead, source,
+            "dynamic.detector_tiles > 1 needs dynamic.lookahead: true (the tiles are frames still to be tracked)");
+    require(c.dynamic.detector_latency >= 0 &&
+                c.dynamic.detector_latency <= c.dynamic.detect_every * c.dynamic.detector_tiles,
+            source, "dynamic.detector_latency must be in [0, detect_every x detector_tiles]");
     require(t.kalman.q > 0 && t.kalman.r > 0, source, "dynamic.kalman_q and kalman_r must be > 0");
     require(t.iou_gate >= 0 && t.iou_gate < 1, source, "dynamic.iou_gate must be in [0, 1)");
     require(t.centre_gate >= 0 && t.centre_gate_max >= 0, source, "dynamic.centre_gate and centre_gate_max must be >= 0");

@@ -54,10 +54,14 @@ struct DynamicParams {
   /// known, so that its boxes are interpolated between detections instead of extrapolated (see
   /// BoxPipeline). Poses come out up to N + L - 1 frames late; throughput is unchanged.
   bool lookahead = false;
-  bool usesLookahead() const { return lookahead && usesKalman() && (detect_every > 1 || detector_latency > 0); }
-  bool usesBoxFlow() const {
-    return usesKalman() && (box_flow == "on" || (box_flow == "auto" && (detect_every > 1 || detector_latency > 0)));
-  }
+  /// Lookahead only: frames tiled into one detector input (1 = one full-size frame per run; 4 = the
+  /// detect_every-th frames are detected in groups of 4 at half resolution, one run per group).
+  int detector_tiles = 1;
+  /// The detector does not give every frame its own boxes on time.
+  bool sparseDetection() const { return detect_every > 1 || detector_latency > 0 || detector_tiles > 1; }
+  bool usesLookahead() const { return lookahead && usesKalman() && sparseDetection(); }
+  int usesTiles() const { return usesLookahead() ? detector_tiles : 1; }
+  bool usesBoxFlow() const { return usesKalman() && (box_flow == "on" || (box_flow == "auto" && sparseDetection())); }
   bool usesKalman() const { return mode == DynamicMode::TK || mode == DynamicMode::TKG; }
   bool usesGeometry() const { return mode == DynamicMode::TG || mode == DynamicMode::TKG; }
 };

@@ -19,7 +19,7 @@ SlamSystem::SlamSystem(const SlamConfig& config)
         config_.dynamic.detector, config_.dynamic.tracker,
         dynamic::BoxScheduleParams{config_.dynamic.detect_every, config_.dynamic.detector_latency,
                                    config_.dynamic.usesKalman(), config_.dynamic.usesBoxFlow(),
-                                   config_.dynamic.usesLookahead()});
+                                   config_.dynamic.usesLookahead(), config_.dynamic.usesTiles()});
   }
   tracker_ = std::make_unique<tracking::Tracker>(map_, camera_, extractor_.pyramid(), config_);
   mapper_ = std::make_unique<mapping::LocalMapper>(map_, camera_, extractor_.pyramid(), config_);
