@@ -48,6 +48,9 @@ else
       --frames 100 --count 3 --min-size 0.75 --max-size 1.0 --speed 0.4 --seed 14 > /dev/null
     run_check "$COMP" "$DIR/run_composite" "${ONE[@]}"
     run_check "$COMP" "$DIR/run_composite_async" "${ONE[@]}" --detect-every 4 --detector-latency 4
+    # Lookahead with tiled runs: frames held back, four frames per detector run.
+    run_check "$COMP" "$DIR/run_composite_tiled" "${ONE[@]}" --detect-every 2 --detector-tiles 4 \
+      --detector-latency 8 --lookahead
   else
     echo "no $BIN or $PEOPLE: the composite check is skipped (run scripts/build.sh first)"
   fi
