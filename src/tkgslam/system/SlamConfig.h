@@ -61,6 +61,8 @@ struct DynamicParams {
   bool sparseDetection() const { return detect_every > 1 || detector_latency > 0 || detector_tiles > 1; }
   bool usesLookahead() const { return lookahead && usesKalman() && sparseDetection(); }
   int usesTiles() const { return usesLookahead() ? detector_tiles : 1; }
+  /// Lookahead: the most frames a frame waits for its boxes (N x tiles + L - 1).
+  int lookaheadDelay() const { return usesLookahead() ? detect_every * usesTiles() + detector_latency - 1 : 0; }
   bool usesBoxFlow() const { return usesKalman() && (box_flow == "on" || (box_flow == "auto" && sparseDetection())); }
   bool usesKalman() const { return mode == DynamicMode::TK || mode == DynamicMode::TKG; }
   bool usesGeometry() const { return mode == DynamicMode::TG || mode == DynamicMode::TKG; }

@@ -165,12 +165,18 @@ FrameOutcome SlamSystem::track(PreparedFrame& prepared, std::vector<dynamic::Det
   return outcome;
 }
 
-void SlamSystem::trackHeld(std::vector<dynamic::FrameBoxes> final_boxes, std::vector<FrameOutcome>& out) {
+void SlamSystem::trackHeld(std::vector<dynamic::FrameBoxes> final_boxes, long through,
+                           std::vector<FrameOutcome>& out) {
+  auto next = held_.begin();
   for (auto& [index, boxes] : final_boxes) {
-    if (held_.empty() || held_.front().index != index) {
+    while (next != held_.end() && next->boxes) ++next;
+    if (next == held_.end() || next->index != index) {
       throw std::logic_error("lookahead: boxes for a frame that is not held back");
     }
-    out.push_back(track(held_.front(), std::move(boxes)));
+    next->boxes = std::move(boxes);
+  }
+  while (!held_.empty() && held_.front().boxes && held_.front().index <= through) {
+    out.push_back(track(held_.front(), std::move(*held_.front().boxes)));
     held_.pop_front();
   }
 }
@@ -182,8 +188,9 @@ std::vector<FrameOutcome> SlamSystem::processFrame(const io::RgbdImages& images)
   if (boxes_ && boxes_->lookahead()) {
     auto final_boxes = boxes_->takeFinalBoxes(bt);
     recordBoxTimings(bt);
+    const long through = prepared.index - config_.dynamic.lookaheadDelay();
     held_.push_back(std::move(prepared));
-    trackHeld(std::move(final_boxes), out);
+    trackHeld(std::move(final_boxes), through, out);
     return out;
   }
   std::vector<dynamic::Detection> boxes;
@@ -203,7 +210,7 @@ std::vector<FrameOutcome> SlamSystem::finish() {
     dynamic::BoxTimings bt;
     auto final_boxes = boxes_->flush(bt);
     recordBoxTimings(bt);
-    trackHeld(std::move(final_boxes), out);
+    trackHeld(std::move(final_boxes), held_.back().index, out);
   }
   mapping_thread_->drain();
   return out;

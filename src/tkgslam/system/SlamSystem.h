@@ -3,6 +3,7 @@
 // own thread unless deterministic), and the outputs (trajectories, map, timings).
 #include <deque>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -111,6 +112,7 @@ class SlamSystem {
     double prepare_ms = 0;  ///< feature extraction and this frame's box work (flow, late detections)
     double wait_ms = 0;     ///< waiting for a synchronous detection
     int late_culled = 0;
+    std::optional<std::vector<dynamic::Detection>> boxes;  ///< lookahead: once final
   };
   std::deque<PreparedFrame> held_;  ///< lookahead: frames waiting for their boxes, oldest first
 
@@ -118,8 +120,11 @@ class SlamSystem {
   PreparedFrame prepare(const io::RgbdImages& images);
   /// Excludes the keypoints in `boxes`, tracks, hands a new keyframe to mapping.
   FrameOutcome track(PreparedFrame& frame, std::vector<dynamic::Detection> boxes);
-  /// Tracks the held-back frames that `final_boxes` covers.
-  void trackHeld(std::vector<dynamic::FrameBoxes> final_boxes, std::vector<FrameOutcome>& out);
+  /// Gives held-back frames their final boxes, then tracks those up to frame `through` in order.
+  /// processFrame passes the current frame minus the lookahead delay, so one frame is tracked per
+  /// call at an even pace: released in bursts (a detection finalises 8 frames at once), tracking
+  /// outran the threaded local mapping, keyframes were refused and the map thinned out.
+  void trackHeld(std::vector<dynamic::FrameBoxes> final_boxes, long through, std::vector<FrameOutcome>& out);
   void recordBoxTimings(const dynamic::BoxTimings& bt);
   /// This frame's boxes -> excluded keypoints; returns the geometry step for the tracker
   /// (empty unless the mode has it and the boxes cover at least tau of the image).
