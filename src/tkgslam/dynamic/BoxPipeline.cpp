@@ -70,7 +70,8 @@ void BoxPipeline::beginFrame(long index, const cv::Mat& bgr, const cv::Mat& dept
     pending_.reset();
   }
   if (index % schedule_.detect_every != 0) return;
-  tile_frames_.emplace_back(index, bgr);
+  // A frame waiting for its group is kept as a copy: the caller may reuse its buffer meanwhile.
+  tile_frames_.emplace_back(index, schedule_.tiles > 1 ? bgr.clone() : bgr);
   if (int(tile_frames_.size()) < schedule_.tiles) return;
   launch();
   if (schedule_.lookahead && schedule_.latency == 0) {  // used on its own frame: wait for it

@@ -52,7 +52,7 @@ struct DynamicParams {
   bool late_culling = true;
   /// Kalman modes with N > 1 or L > 0: hold each frame back until the next detection after it is
   /// known, so that its boxes are interpolated between detections instead of extrapolated (see
-  /// BoxPipeline). Poses come out up to N + L - 1 frames late; throughput is unchanged.
+  /// BoxPipeline). Poses come out lookaheadDelay() frames late; throughput is unchanged.
   bool lookahead = false;
   /// Lookahead only: frames tiled into one detector input (1 = one full-size frame per run; 4 = the
   /// detect_every-th frames are detected in groups of 4 at half resolution, one run per group).
