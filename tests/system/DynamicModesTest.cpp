@@ -73,5 +73,18 @@ TEST(DynamicModes, DetectorLatencyLongerThanItsPeriodIsAClearError) {
   EXPECT_NE(out.find("detector_latency must be in [0, detect_every = 2], got 3"), std::string::npos) << out;
 }
 
+TEST(DynamicModes, DetectorTilesWithoutLookaheadOrTooLateAreClearErrors) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  const std::string run = "run --mode TKG --max-frames 5 -c " + (test::sourceDir() / "configs/tum_fr1.yaml").string() +
+                          " -d " + test::fr1xyz().string() + " -o " + tmp.path().string();
+  std::string out;
+  EXPECT_EQ(test::runCli(run + " --detector-tiles 4", &out), 2);
+  EXPECT_NE(out.find("--detector-tiles > 1 needs --lookahead"), std::string::npos) << out;
+  EXPECT_EQ(test::runCli(run + " --detector-tiles 4 --lookahead --detector-latency 9", &out), 2);
+  EXPECT_NE(out.find("detect_every x detector_tiles = 4], got 9"), std::string::npos) << out;
+  EXPECT_EQ(test::runCli(run + " --detector-tiles 10 --lookahead", &out), 2);  // CLI range check
+}
+
 }  // namespace
 }  // namespace tkgslam
