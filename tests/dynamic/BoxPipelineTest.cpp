@@ -23,6 +23,14 @@ dynamic::DetectorParams detectorParams() {
 // The left man on bus.jpg (pixels of the photo, read off by eye), the picture shifted right by dx.
 cv::Rect2f kLeftManAt(float dx) { return cv::Rect2f(50 + dx, 398, 158, 500); }
 
+/// `photo` shifted right by dx pixels (a camera pan); what comes into view is `border`.
+cv::Mat shifted(const cv::Mat& photo, double dx, int border = cv::BORDER_REPLICATE) {
+  cv::Mat out;
+  const cv::Mat m = (cv::Mat_<double>(2, 3) << 1, 0, dx, 0, 1, 0);
+  cv::warpAffine(photo, out, m, photo.size(), cv::INTER_LINEAR, border);
+  return out;
+}
+
 struct FrameOutput {
   std::vector<dynamic::Detection> boxes;
   dynamic::BoxTimings timings;
@@ -74,12 +82,7 @@ TEST(BoxPipeline, BetweenLateDetectionsBoxesFollowTheImageByOpticalFlow) {
   const cv::Mat bus = cv::imread((test::sharedDir() / "datasets/people/bus.jpg").string());
   ASSERT_FALSE(bus.empty());
   // The camera pans, the picture moving 6 px right per frame, and stops after frame 4.
-  auto frame = [&](int i) {
-    cv::Mat out;
-    const cv::Mat m = (cv::Mat_<double>(2, 3) << 1, 0, 6.0 * std::min(i, 4), 0, 1, 0);
-    cv::warpAffine(bus, out, m, bus.size(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
-    return out;
-  };
+  auto frame = [&](int i) { return shifted(bus, 6.0 * std::min(i, 4)); };
   auto run = [&](bool flow) {
     dynamic::BoxPipeline pipeline(detectorParams(), {}, {/*detect_every=*/4, /*latency=*/4, true, flow});
     std::vector<std::vector<dynamic::Detection>> boxes;
@@ -122,12 +125,7 @@ TEST(BoxPipeline, LookaheadBoxesPeopleBeforeTheDetectorFirstSeesThem) {
   // The camera pans left to right: the picture enters from the left, 50 px per frame, so the man on
   // the left of bus.jpg walks into view from the border (black: nothing there yet) and stops at 4.
   const auto shift = [](int i) { return -200.0f + 50.0f * std::min(i, 4); };
-  auto frame = [&](int i) {
-    cv::Mat out;
-    const cv::Mat m = (cv::Mat_<double>(2, 3) << 1, 0, shift(i), 0, 1, 0);
-    cv::warpAffine(bus, out, m, bus.size(), cv::INTER_LINEAR, cv::BORDER_CONSTANT);
-    return out;
-  };
+  auto frame = [&](int i) { return shifted(bus, shift(i), cv::BORDER_CONSTANT); };
   dynamic::BoxPipeline pipeline(detectorParams(), {}, {/*detect_every=*/4, /*latency=*/4, true, true, /*lookahead=*/true});
   std::map<long, std::vector<dynamic::Detection>> boxes;
   dynamic::BoxTimings t;
@@ -170,12 +168,7 @@ TEST(BoxPipeline, TiledRunsDetectEachFrameOfTheGroup) {
   ASSERT_FALSE(bus.empty());
   // The picture pans 20 px per frame; frames 0, 2, 4, 6 are detected in one run started on frame 6
   // (tiles 4, every 2nd frame) and used 2 frames later.
-  auto frame = [&](int i) {
-    cv::Mat out;
-    const cv::Mat m = (cv::Mat_<double>(2, 3) << 1, 0, 20.0 * i, 0, 1, 0);
-    cv::warpAffine(bus, out, m, bus.size(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
-    return out;
-  };
+  auto frame = [&](int i) { return shifted(bus, 20.0 * i); };
   dynamic::BoxPipeline pipeline(detectorParams(), {},
                                 {/*detect_every=*/2, /*latency=*/2, true, true, /*lookahead=*/true, /*tiles=*/4});
   std::map<long, std::vector<dynamic::Detection>> boxes;

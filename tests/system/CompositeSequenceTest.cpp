@@ -47,6 +47,17 @@ TEST(CompositeSequence, TkgStaysCloseToTheStaticOriginalWhileOrbSuffers) {
   ASSERT_EQ(test::runCli(run + (tmp / "orb").string() + " --mode orb -d " + aug.string(), &out), 0) << out;
   ASSERT_EQ(test::runCli(run + (tmp / "tkg").string() + " --mode TKG -d " + aug.string(), &out), 0) << out;
   const auto gt = aug / "groundtruth.txt";
+  // Runs TKG on the composite with `flags` into tmp/name; returns its ATE (recorded as ate_<name>).
+  const auto runTkg = [&](const std::string& name, const std::string& flags) {
+    EXPECT_EQ(test::runCli(run + (tmp / name).string() + " --mode TKG " + flags + " -d " + aug.string(), &out), 0)
+        << out;
+    const double ate = ateOf(gt, tmp / name / "trajectory.txt");
+    RecordProperty("ate_" + name, std::to_string(ate));
+    return ate;
+  };
+  const auto poses = [&](const std::string& name) {
+    return io::readTumTrajectory((tmp / name / "trajectory.txt").string()).size();
+  };
   const double ate_static = ateOf(gt, tmp / "static" / "trajectory.txt");
   const double ate_orb = ateOf(gt, tmp / "orb" / "trajectory.txt");
   const double ate_tkg = ateOf(gt, tmp / "tkg" / "trajectory.txt");
@@ -62,16 +73,10 @@ TEST(CompositeSequence, TkgStaysCloseToTheStaticOriginalWhileOrbSuffers) {
   // Asynchronous detection (every 8th frame, used 8 frames later): boxes follow the people by
   // optical flow in between, late detections erase the map points made on them meanwhile. Less
   // accurate than detecting every frame, but still far better than ignoring the people.
-  ASSERT_EQ(test::runCli(run + (tmp / "tkga").string() + " --mode TKG --detect-every 8 --detector-latency 8 -d " +
-                             aug.string(),
-                         &out),
-            0)
-      << out;
-  const double ate_tkga = ateOf(gt, tmp / "tkga" / "trajectory.txt");
-  RecordProperty("ate_tkga", std::to_string(ate_tkga));
+  const double ate_tkga = runTkg("tkga", "--detect-every 8 --detector-latency 8");
   EXPECT_LE(ate_tkga, 3.0 * ate_static) << "static " << ate_static << " TKG async " << ate_tkga;
   EXPECT_GE(ate_orb, 2.0 * ate_tkga) << "orb " << ate_orb << " TKG async " << ate_tkga;
-  EXPECT_GE(io::readTumTrajectory((tmp / "tkga" / "trajectory.txt").string()).size(), 145u);
+  EXPECT_GE(poses("tkga"), 145u);
   const std::string jsonl = test::readFile(tmp / "tkga" / "dynamic.jsonl");
   EXPECT_NE(jsonl.find("\"late_culled\": "), std::string::npos) << "no map point was erased by a late detection";
   const double recall_tkga = recallOf(tmp / "tkga");
@@ -80,31 +85,16 @@ TEST(CompositeSequence, TkgStaysCloseToTheStaticOriginalWhileOrbSuffers) {
   // The same schedule with lookahead: frames wait for the next detection, so their boxes are
   // interpolated (and people walking in are followed back) instead of extrapolated. The held-back
   // frames at the end are tracked too, and the accuracy is back at the level of detecting every frame.
-  ASSERT_EQ(test::runCli(run + (tmp / "tkgl").string() + " --mode TKG --detect-every 8 --detector-latency 8 --lookahead -d " +
-                             aug.string(),
-                         &out),
-            0)
-      << out;
-  const double ate_tkgl = ateOf(gt, tmp / "tkgl" / "trajectory.txt");
-  RecordProperty("ate_tkgl", std::to_string(ate_tkgl));
+  const double ate_tkgl = runTkg("tkgl", "--detect-every 8 --detector-latency 8 --lookahead");
   EXPECT_LE(ate_tkgl, 1.5 * ate_static) << "static " << ate_static << " TKG lookahead " << ate_tkgl;
   EXPECT_LT(ate_tkgl, ate_tkga) << "lookahead " << ate_tkgl << " vs async " << ate_tkga;
-  EXPECT_EQ(io::readTumTrajectory((tmp / "tkgl" / "trajectory.txt").string()).size(),
-            io::readTumTrajectory((tmp / "tkg" / "trajectory.txt").string()).size());
+  EXPECT_EQ(poses("tkgl"), poses("tkg"));
   EXPECT_GT(recallOf(tmp / "tkgl"), recall_tkga);
 
   // Tiled runs: still one detector run per 8 frames, but on 4 frames at half size (every 2nd frame).
-  ASSERT_EQ(test::runCli(run + (tmp / "tkgt").string() +
-                             " --mode TKG --detect-every 2 --detector-tiles 4 --detector-latency 8 --lookahead -d " +
-                             aug.string(),
-                         &out),
-            0)
-      << out;
-  const double ate_tkgt = ateOf(gt, tmp / "tkgt" / "trajectory.txt");
-  RecordProperty("ate_tkgt", std::to_string(ate_tkgt));
+  const double ate_tkgt = runTkg("tkgt", "--detect-every 2 --detector-tiles 4 --detector-latency 8 --lookahead");
   EXPECT_LE(ate_tkgt, 1.5 * ate_static) << "static " << ate_static << " TKG tiled " << ate_tkgt;
-  EXPECT_EQ(io::readTumTrajectory((tmp / "tkgt" / "trajectory.txt").string()).size(),
-            io::readTumTrajectory((tmp / "tkg" / "trajectory.txt").string()).size());
+  EXPECT_EQ(poses("tkgt"), poses("tkg"));
   EXPECT_GT(recallOf(tmp / "tkgt"), recall_tkga);
 }
 

@@ -61,7 +61,7 @@ void BoxPipeline::beginFrame(long index, const cv::Mat& bgr, const cv::Mat& dept
   }
   // A detection started L frames ago is due: it must be consumed before the next one starts
   // (one detection in flight at a time, so it never competes with itself for the cores).
-  if (pending_ && schedule_.latency > 0 && index >= pending_->frame + schedule_.latency) {
+  if (pending_ && schedule_.latency > 0 && index >= pending_->frame() + schedule_.latency) {
     if (schedule_.lookahead) {
       finalize(*pending_, begin_timings_);
     } else {
@@ -82,8 +82,7 @@ void BoxPipeline::beginFrame(long index, const cv::Mat& bgr, const cv::Mat& dept
 
 void BoxPipeline::launch() {
   Pending p;
-  p.frame = tile_frames_.back().first;
-  p.tracker_before = tracker_;
+  if (!schedule_.lookahead) p.tracker_before = tracker_;  // consume() rewinds to it
   std::vector<cv::Mat> images;
   for (auto& [f, bgr] : tile_frames_) {
     p.tiles.push_back(f);
@@ -215,11 +214,11 @@ std::vector<Detection> BoxPipeline::consume(Pending& p, long index, cv::Size ima
     // Rewind to the detection's frame, update there, predict the frames since (none when the
     // detection is used on its own frame).
     tracker_ = std::move(p.tracker_before);
-    auto moved = flowTo(p.frame);
+    auto moved = flowTo(p.frame());
     out = tracker_.update(detections, image, moved ? &*moved : nullptr);
     late_boxes_.clear();
-    if (p.frame < index) late_boxes_.emplace_back(p.frame, out);
-    for (long f = p.frame + 1; f < index; ++f) {
+    if (p.frame() < index) late_boxes_.emplace_back(p.frame(), out);
+    for (long f = p.frame() + 1; f < index; ++f) {
       moved = flowTo(f);
       late_boxes_.emplace_back(f, tracker_.predictAll(image, moved ? &*moved : nullptr));
     }
@@ -233,7 +232,7 @@ std::vector<Detection> BoxPipeline::consume(Pending& p, long index, cv::Size ima
 
 std::vector<Detection> BoxPipeline::frameBoxes(cv::Size image, BoxTimings& timings) {
   timings = begin_timings_;
-  const bool synchronous = pending_ && pending_->frame == index_ && (schedule_.latency == 0 || index_ == 0);
+  const bool synchronous = pending_ && pending_->frame() == index_ && (schedule_.latency == 0 || index_ == 0);
   if (synchronous) {
     auto out = consume(*pending_, index_, image, timings);
     pending_.reset();

@@ -88,10 +88,10 @@ class BoxPipeline {
  private:
   using Result = std::pair<std::vector<std::vector<Detection>>, double>;  // per tile, inference ms
   struct Pending {
-    long frame = -1;          ///< the frame the run was started on (its last tile)
     std::vector<long> tiles;  ///< the frames detected, oldest first
+    long frame() const { return tiles.back(); }  ///< the run was started on its last tile
     std::future<Result> result;
-    BoxTracker tracker_before;  ///< box tracker state just before `frame`
+    BoxTracker tracker_before;  ///< without lookahead: the box tracker just before frame()
   };
 
   /// Applies a finished detection of frame p.frame and predicts forward to just before `index`;
