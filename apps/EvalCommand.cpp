@@ -17,7 +17,7 @@ namespace tkgslam::app {
 namespace {
 
 struct EvalOptions {
-  std::string gt, est, frames, plot;
+  std::string gt, est, frames, plot, errors;
   bool json = false;
   double delta = 1.0;
 };
@@ -43,6 +43,20 @@ int countInputFrames(const std::string& path) {
   return int(io::parseTumImageList(in, list.string()).size());
 }
 
+/// One line per associated pose: where the error is (evo's per-pose plots, in a table).
+void writeAteErrors(const std::string& path, const eval::AteResult& ate) {
+  std::ofstream out(path);
+  if (!out) throw InputError(fmt::format("cannot write '{}'", path));
+  out << "# timestamp ate_m gt_x gt_y gt_z est_x est_y est_z (metres, estimate aligned to ground truth)\n";
+  for (size_t i = 0; i < ate.errors.size(); ++i) {
+    const Vec3& g = ate.gt_positions[i];
+    const Vec3& e = ate.est_aligned[i];
+    out << fmt::format("{:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f}\n", ate.timestamps[i], ate.errors[i],
+                       g.x(), g.y(), g.z(), e.x(), e.y(), e.z());
+  }
+  if (!out) throw InputError(fmt::format("cannot write '{}'", path));
+}
+
 int runEval(const EvalOptions& o) {
   const auto gt = io::readTumTrajectory(o.gt);
   const auto est = io::readTumTrajectory(o.est);
@@ -57,6 +71,7 @@ int runEval(const EvalOptions& o) {
     tracked_ratio = input_frames > 0 ? double(est.size()) / input_frames : 0.0;
   }
   if (!o.plot.empty()) eval::writeTrajectorySvg(o.plot, ate, std::filesystem::path(o.est).filename().string());
+  if (!o.errors.empty()) writeAteErrors(o.errors, ate);
   if (o.json) {
     std::printf("{\"ground_truth\": \"%s\", \"estimate\": \"%s\", \"estimate_poses\": %zu,\n", o.gt.c_str(),
                 o.est.c_str(), est.size());
@@ -76,6 +91,7 @@ int runEval(const EvalOptions& o) {
       std::printf("tracked frames: %zu / %d = %.2f %%\n", est.size(), input_frames, 100.0 * tracked_ratio);
     }
     if (!o.plot.empty()) std::printf("plot: %s\n", o.plot.c_str());
+    if (!o.errors.empty()) std::printf("per-pose errors: %s\n", o.errors.c_str());
   }
   return 0;
 }
@@ -89,6 +105,8 @@ Action addEvalCommand(CLI::App& app) {
   cmd->add_option("estimate", opts->est, "Estimated trajectory (TUM format)")->required();
   cmd->add_flag("--json", opts->json, "Print the results as JSON");
   cmd->add_option("--plot", opts->plot, "Write an SVG top view of both trajectories, error coloured");
+  cmd->add_option("--errors", opts->errors,
+                  "Write the per-pose ATE (timestamp, error, aligned positions) to this text file");
   cmd->add_option("--frames", opts->frames,
                   "Input frame list (rgb.txt or a dataset folder) to report the tracked-frame ratio");
   cmd->add_option("--delta", opts->delta, "RPE time delta in seconds")->default_val(1.0)->check(CLI::PositiveNumber);

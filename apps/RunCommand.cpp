@@ -96,10 +96,10 @@ int runSlam(const RunOptions& o) {
   int n = o.max_frames > 0 ? std::min(o.max_frames, dataset.size()) : dataset.size();
   std::printf("tkgslam run: %d frames from %s (%s, dynamic mode %s)\n", n, o.dataset.c_str(),
               config.deterministic ? "deterministic" : "threaded", toString(config.dynamic.mode));
-  int skipped = 0, lost = 0, processed = 0;
-  // Frames that produced no pose, and why: "timestamp status reason".
+  int skipped = 0, lost = 0, predicted = 0, processed = 0;
+  // Frames that produced no pose or only a predicted one, and why: "timestamp status reason".
   std::ofstream frame_log(out / "frame_log.txt");
-  frame_log << "# frames without a pose: timestamp status reason\n";
+  frame_log << "# frames without a tracked pose: timestamp status reason\n";
   // Resident memory every 100 frames: long (--loops) runs must stay flat once the map stops growing.
   std::ofstream memory_log(out / "memory.tsv");
   memory_log << "frame\trss_mib\tkeyframes\tmap_points\n";
@@ -115,6 +115,11 @@ int runSlam(const RunOptions& o) {
       frame_log << fmt::format("{:.6f} {} {}\n", f.timestamp, uninit ? "not_initialised" : "lost",
                                uninit ? "too few keypoints with depth to start a map"
                                       : "too few matches to track or relocalise");
+    }
+    if (f.result.predicted) {
+      ++predicted;
+      frame_log << fmt::format("{:.6f} predicted too few matches: pose from the constant-velocity model\n",
+                               f.timestamp);
     }
     if (f.result.new_segment) frame_log << fmt::format("{:.6f} new_segment a new map segment starts here\n", f.timestamp);
   };
@@ -168,33 +173,34 @@ int runSlam(const RunOptions& o) {
   }
   if (config.dynamic.mode != DynamicMode::Orb) {
     const auto& info = slam.dynamicInfo();
-    int geometry = 0, predicted = 0;
+    int geometry = 0, kalman_boxes = 0;
     double dropped = 0;
     for (const auto& f : info) {
       geometry += f.geometry;
-      predicted += f.predicted;
+      kalman_boxes += f.predicted;
       dropped += f.dropped;
     }
     std::printf("dynamic: %zu frames, %d Kalman-filled boxes, geometry check on %d frames, %.1f keypoints "
                 "dropped per frame; detector %.1f ms/run\n",
-                info.size(), predicted, geometry, info.empty() ? 0.0 : dropped / info.size(),
+                info.size(), kalman_boxes, geometry, info.empty() ? 0.0 : dropped / info.size(),
                 slam.timing().mean("detector"));
   }
 
   const double ratio = n > 0 ? double(traj.size()) / n : 0.0;
   writeText(out / "run.json",
             fmt::format("{{\"dataset\": \"{}\", \"config\": \"{}\", \"mode\": \"{}\", \"deterministic\": {}, "
-                        "\"frames\": {}, \"tracked\": {}, \"tracked_ratio\": {:.4f}, \"skipped\": {}, \"keyframes\": {}, "
+                        "\"frames\": {}, \"tracked\": {}, \"tracked_ratio\": {:.4f}, \"predicted\": {}, \"skipped\": {}, \"keyframes\": {}, "
                         "\"map_points\": {}, \"mean_ms_per_frame\": {:.2f}, \"median_ms_per_frame\": {:.2f}, "
                         "\"ratio_threshold\": {}}}\n",
                         std::filesystem::absolute(o.dataset).lexically_normal().string(),
                         std::filesystem::absolute(o.config).lexically_normal().string(), toString(config.dynamic.mode),
-                        config.deterministic ? "true" : "false", n, traj.size(), ratio, skipped, slam.keyFrameCount(),
+                        config.deterministic ? "true" : "false", n, traj.size(), ratio, predicted, skipped, slam.keyFrameCount(),
                         slam.mapPointCount(), slam.timing().mean("total"), slam.timing().median("total"),
                         config.dynamic.geometry.ratio_threshold));
-  std::printf("frames %d, tracked %zu (%.2f %%), skipped %d (unreadable), lost %d, keyframes %zu, map points %zu%s\n",
-              n, traj.size(), 100.0 * ratio, skipped, lost, slam.keyFrameCount(), slam.mapPointCount(),
-              skipped + lost > 0 ? " - see frame_log.txt" : "");
+  std::printf("frames %d, tracked %zu (%.2f %%; %d of them predicted), skipped %d (unreadable), lost %d, keyframes %zu, "
+              "map points %zu%s\n",
+              n, traj.size(), 100.0 * ratio, predicted, skipped, lost, slam.keyFrameCount(), slam.mapPointCount(),
+              skipped + lost + predicted > 0 ? " - see frame_log.txt" : "");
   std::printf("time per frame: mean %.1f ms, median %.1f ms (ORB+tracking median %.1f ms)\n",
               slam.timing().mean("total"), slam.timing().median("total"), slam.timing().median("orb_and_tracking"));
   if (const auto gt_path = dataset.groundTruthPath(); gt_path && traj.size() >= 2 && o.loops == 1) {

@@ -158,12 +158,15 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     s.get("min_tracked_inliers", c.tracking.min_tracked_inliers);
     s.get("max_frames_between_keyframes", c.tracking.max_frames_between_keyframes);
     s.get("relocalization_attempts", c.tracking.relocalization_attempts);
+    s.get("max_predicted_frames", c.tracking.max_predicted_frames);
     s.checkNoUnknownKeys();
     require(c.tracking.min_init_features >= 10, source, "tracking.min_init_features must be >= 10");
     require(c.tracking.min_tracked_inliers >= 6, source, "tracking.min_tracked_inliers must be >= 6");
     require(c.tracking.max_frames_between_keyframes >= 0, source,
             "tracking.max_frames_between_keyframes must be >= 0");
     require(c.tracking.relocalization_attempts >= 0, source, "tracking.relocalization_attempts must be >= 0");
+    require(c.tracking.max_predicted_frames >= 0 && c.tracking.max_predicted_frames <= 30, source,
+            "tracking.max_predicted_frames must be in [0, 30]");
   }
   {
     Section s(root, "mapping", source, false);

@@ -50,7 +50,7 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     // The geometry check needs a pose: the tracked one, or - when the keypoints outside the boxes
     // were too few to track - the motion model's prediction. Keypoints it finds static are then
     // matched too.
-    if (!ok) frame.T_cw = orthonormalized(velocity_ * last_frame_->T_cw);
+    if (!ok) frame.T_cw = predictPose();
     if (refine(frame, local_keyframes_) > 0) {
       if (!ok) ok = trackWithMotionModel(frame) || trackReferenceKeyFrame(frame);
       if (ok) ok = trackLocalMap(frame);
@@ -60,7 +60,9 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
   if (ok) {
     state_ = TrackingState::Ok;
     lost_frames_ = 0;
-    velocity_ = orthonormalized(frame.T_cw * last_frame_->T_cw.inverse());
+    // After bridged frames the step spans several frames; the previous velocity stays.
+    if (predicted_frames_ == 0) velocity_ = orthonormalized(frame.T_cw * last_frame_->T_cw.inverse());
+    predicted_frames_ = 0;
     has_velocity_ = true;
     // Temporary visual-odometry points are not map points; forget them.
     for (int i = 0; i < frame.size(); ++i) {
@@ -82,8 +84,21 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     return result;
   }
 
+  if (state_ == TrackingState::Ok && has_velocity_ && predicted_frames_ < cfg_.tracking.max_predicted_frames) {
+    // A few untrackable frames in a tracked run (heavy motion blur, a person filling the view):
+    // bridge them with the motion model and keep tracking against the last tracked frame, rather
+    // than relocalising from scratch. No keyframes come from these frames.
+    frame.T_cw = predictPose();
+    ++predicted_frames_;
+    const auto& ref = reference_kf_ ? reference_kf_ : last_frame_->reference;
+    records_.push_back({frame.timestamp, ref, frame.T_cw * ref->T_wc(), true});
+    result.tracked = true;
+    result.predicted = true;
+    return result;
+  }
   state_ = TrackingState::Lost;
   has_velocity_ = false;
+  predicted_frames_ = 0;
   ++lost_frames_;
   temporal_points_.clear();
   if (lost_frames_ > cfg_.tracking.relocalization_attempts && canInitialize(frame)) {
@@ -149,9 +164,11 @@ bool Tracker::initialize(Frame& frame, bool new_segment) {
 
 void Tracker::updateLastFrame() {
   Frame& last = *last_frame_;
-  // The reference keyframe may have been refined by bundle adjustment since.
-  if (!records_.empty() && records_.back().reference && !records_.back().reference->bad) {
-    last.T_cw = orthonormalized(records_.back().T_cr * records_.back().reference->T_cw());
+  // The reference keyframe may have been refined by bundle adjustment since. (Records after the
+  // last frame's are motion-model predictions.)
+  const auto rec = records_.end() - std::min<std::ptrdiff_t>(records_.size(), predicted_frames_ + 1);
+  if (rec != records_.end() && rec->reference && !rec->reference->bad) {
+    last.T_cw = orthonormalized(rec->T_cr * rec->reference->T_cw());
   }
   if (last_kf_ && last_kf_->frame_id == last.id) return;
   // Temporary points from the last frame's depth help the next frame (as in ORB-SLAM2 RGB-D).
@@ -233,7 +250,7 @@ bool Tracker::trackReferenceKeyFrame(Frame& frame) {
 
 bool Tracker::trackWithMotionModel(Frame& frame) {
   updateLastFrame();
-  frame.T_cw = orthonormalized(velocity_ * last_frame_->T_cw);
+  frame.T_cw = predictPose();
   std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
   const float th = 15.0f;
   int n = matcher_.searchByProjection(frame, *last_frame_, th);
@@ -250,6 +267,12 @@ bool Tracker::trackWithMotionModel(Frame& frame) {
   const int in_map = discardOutliers(frame);
   spdlog::debug("frame {}: motion model {} matches, {} in map after optimisation", frame.id, n, in_map);
   return in_map >= 10;
+}
+
+Pose Tracker::predictPose() const {
+  Pose T = last_frame_->T_cw;
+  for (int k = 0; k <= predicted_frames_; ++k) T = velocity_ * T;
+  return orthonormalized(T);
 }
 
 bool Tracker::isInFrustum(MapPoint& mp, const Frame& frame, double min_view_cos) const {

@@ -25,6 +25,9 @@ struct TrackResult {
   std::shared_ptr<data::KeyFrame> new_keyframe;  ///< to hand to local mapping
   int inliers = 0;
   bool new_segment = false;  ///< a new map segment was started at this frame
+  /// Too few matches to track, but the motion model bridged the frame: the pose is the constant-
+  /// velocity prediction (tracked is also true). See TrackingConfig::max_predicted_frames.
+  bool predicted = false;
 };
 
 /// A frame's pose stored relative to its reference keyframe, so that later keyframe
@@ -33,6 +36,7 @@ struct FrameRecord {
   double timestamp = 0;
   std::shared_ptr<data::KeyFrame> reference;
   Pose T_cr = Pose::Identity();
+  bool predicted = false;  ///< pose from the motion model, not from matches
 };
 
 /// Called once the frame has a pose from the keypoints outside the boxes; may re-admit keypoints
@@ -50,7 +54,7 @@ class Tracker {
   TrackResult track(data::Frame frame, bool mapper_idle, int mapper_queue, const RefineKeypoints& refine = {});
 
   TrackingState state() const { return state_; }
-  /// Tracked frames so far (untracked frames have no record).
+  /// Tracked (and motion-model predicted) frames so far; lost frames have no record.
   const std::vector<FrameRecord>& records() const { return records_; }
   /// The most recent frame (features, matches, pose) - for diagnostics.
   const data::Frame* lastFrame() const { return last_frame_.get(); }
@@ -72,6 +76,9 @@ class Tracker {
   /// Drops outlier matches; returns the matches that are map points (not temporary ones).
   int discardOutliers(data::Frame& frame);
   bool isInFrustum(data::MapPoint& mp, const data::Frame& frame, double min_view_cos) const;
+  /// Constant-velocity prediction for the current frame: `predicted_frames_ + 1` steps of the
+  /// last velocity from the last tracked frame.
+  Pose predictPose() const;
 
   data::Map& map_;
   const camera::PinholeCamera& cam_;
@@ -91,6 +98,7 @@ class Tracker {
   bool has_velocity_ = false;
   long last_reloc_frame_ = -1000;
   int lost_frames_ = 0;
+  int predicted_frames_ = 0;  ///< frames bridged by the motion model since the last tracked one
   int matches_inliers_ = 0;
   std::vector<FrameRecord> records_;
 };
