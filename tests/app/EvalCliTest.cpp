@@ -1,3 +1,7 @@
+#include <cmath>
+#include <sstream>
+
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "TestSupport.h"
@@ -18,6 +22,37 @@ TEST(EvalCli, ScoresReferenceTrajectoryAndWritesPlot) {
   EXPECT_NE(out.find("rmse 0.0163"), std::string::npos) << out;
   EXPECT_NE(out.find("rmse 0.0218"), std::string::npos) << out;
   EXPECT_GT(std::filesystem::file_size(tmp / "plot.svg"), 10000u);
+}
+
+TEST(EvalCli, PerPoseErrorsAddUpToTheReportedAte) {
+  TKGSLAM_REQUIRE_SHARED();
+  const auto ref = test::sharedDir() / "datasets" / "reference_trajectories";
+  test::TempDir tmp;
+  std::string out;
+  ASSERT_EQ(test::runCli("eval " + (ref / "groundtruth_fr3_walk_xyz.txt").string() + " " +
+                             (ref / "dynaslam_fr3_walk_xyz" / "CameraTrajectory_0.txt").string() + " --errors " +
+                             (tmp / "errors.txt").string(),
+                         &out),
+            0)
+      << out;
+  std::istringstream in(test::readFile(tmp / "errors.txt"));
+  std::string line;
+  int rows = 0;
+  double sum_sq = 0, last_t = 0;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream row(line);
+    double t, e, g[3], a[3];
+    ASSERT_TRUE(row >> t >> e >> g[0] >> g[1] >> g[2] >> a[0] >> a[1] >> a[2]) << line;
+    EXPECT_GT(t, last_t);
+    // The error column is the distance between the two positions on the line.
+    EXPECT_NEAR(e, std::hypot(g[0] - a[0], g[1] - a[1], g[2] - a[2]), 2e-6) << line;
+    sum_sq += e * e;
+    last_t = t;
+    ++rows;
+  }
+  EXPECT_NE(out.find(fmt::format("pairs {}", rows)), std::string::npos) << out;
+  EXPECT_NEAR(std::sqrt(sum_sq / rows), 0.0163, 5e-5);  // the TUM script's ATE for this estimate
 }
 
 TEST(EvalCli, JsonAndTrackedRatio) {
