@@ -96,7 +96,7 @@ int runSlam(const RunOptions& o) {
   int n = o.max_frames > 0 ? std::min(o.max_frames, dataset.size()) : dataset.size();
   std::printf("tkgslam run: %d frames from %s (%s, dynamic mode %s)\n", n, o.dataset.c_str(),
               config.deterministic ? "deterministic" : "threaded", toString(config.dynamic.mode));
-  int skipped = 0, lost = 0, predicted = 0, processed = 0;
+  int skipped = 0, lost = 0, predicted = 0, segments = 0, reanchored = 0, processed = 0;
   // Frames that produced no pose or only a predicted one, and why: "timestamp status reason".
   std::ofstream frame_log(out / "frame_log.txt");
   frame_log << "# frames without a tracked pose: timestamp status reason\n";
@@ -121,7 +121,15 @@ int runSlam(const RunOptions& o) {
       frame_log << fmt::format("{:.6f} predicted too few matches: pose from the constant-velocity model\n",
                                f.timestamp);
     }
-    if (f.result.new_segment) frame_log << fmt::format("{:.6f} new_segment a new map segment starts here\n", f.timestamp);
+    if (f.result.new_segment) {
+      ++segments;
+      frame_log << fmt::format("{:.6f} new_segment a new map segment starts here\n", f.timestamp);
+    }
+    if (f.result.reanchored) {
+      ++reanchored;
+      frame_log << fmt::format("{:.6f} reanchored the map segment was moved into the previous segment's frame\n",
+                               f.timestamp);
+    }
   };
   for (int i = 0; i < n && !g_interrupted; ++i) {
     io::RgbdImages images;
@@ -201,6 +209,10 @@ int runSlam(const RunOptions& o) {
               "map points %zu%s\n",
               n, traj.size(), 100.0 * ratio, predicted, skipped, lost, slam.keyFrameCount(), slam.mapPointCount(),
               skipped + lost + predicted > 0 ? " - see frame_log.txt" : "");
+  if (segments > 0) {
+    std::printf("tracking was lost for good %d time(s): %d new map segment(s), %d re-anchored to the one before\n",
+                segments, segments, reanchored);
+  }
   std::printf("time per frame: mean %.1f ms, median %.1f ms (ORB+tracking median %.1f ms)\n",
               slam.timing().mean("total"), slam.timing().median("total"), slam.timing().median("orb_and_tracking"));
   if (const auto gt_path = dataset.groundTruthPath(); gt_path && traj.size() >= 2 && o.loops == 1) {

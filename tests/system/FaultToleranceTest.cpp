@@ -23,7 +23,13 @@ namespace {
 namespace fs = std::filesystem;
 
 /// What to write for one frame of a copied fr1_xyz sequence: the original file, or a stand-in.
-enum class FrameFault { None, Unreadable, Black, TruncatedDepth, NoDepth };
+enum class FrameFault { None, Unreadable, Black, TruncatedDepth, NoDepth, Mirrored };
+
+cv::Mat mirrored(const std::string& path, int flags) {
+  cv::Mat m;
+  cv::flip(cv::imread(path, flags), m, 1);
+  return m;
+}
 
 /// Writes the first `frames` frames of fr1_xyz to `seq` (TUM layout, with ground truth), leaving out
 /// those `skip` returns true for and replacing images as `rgb_fault` / `depth_fault` say.
@@ -42,11 +48,13 @@ void writeFaultySequence(const fs::path& seq, int frames, const std::function<bo
     switch (rgb_fault(i)) {
       case FrameFault::Unreadable: test::writeText(rgb, "not an image"); break;
       case FrameFault::Black: cv::imwrite(rgb.string(), cv::Mat::zeros(480, 640, CV_8UC3)); break;
+      case FrameFault::Mirrored: cv::imwrite(rgb.string(), mirrored(e.rgb_path, cv::IMREAD_COLOR)); break;
       default: fs::copy_file(e.rgb_path, rgb);
     }
     switch (depth_fault(i)) {
       case FrameFault::TruncatedDepth: test::writeText(depth, test::readFile(e.depth_path).substr(0, 200)); break;
       case FrameFault::NoDepth: cv::imwrite(depth.string(), cv::Mat::zeros(480, 640, CV_16UC1)); break;
+      case FrameFault::Mirrored: cv::imwrite(depth.string(), mirrored(e.depth_path, cv::IMREAD_ANYDEPTH)); break;
       default: fs::copy_file(e.depth_path, depth);
     }
     rgb_list += fmt::format("{:.6f} rgb/{}\n", e.rgb_timestamp, rgb.filename().string());
@@ -152,6 +160,47 @@ TEST(FaultTolerance, ShortUntrackableGapsAreBridgedByTheMotionModel) {
   for (int i : black) {
     EXPECT_NE(strict_log.find(fmt::format("{:.6f} lost", src.entry(i).rgb_timestamp)), std::string::npos) << i;
   }
+}
+
+// A long stretch the map cannot explain - here the images mirrored left to right, a scene of their
+// own - loses tracking for good: a new map segment starts on it, and another one when the real
+// frames come back, at the last known pose but off by however far the camera moved meanwhile.
+// Once that segment sees again what the first one saw, it is moved into the first one's frame.
+TEST(FaultTolerance, ANewMapSegmentIsReanchoredToThePreviousOne) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  const auto mirror = [](int i) { return i >= 40 && i < 80; };
+  const auto fault = [&](int i) { return mirror(i) ? FrameFault::Mirrored : FrameFault::None; };
+  writeFaultySequence(tmp / "seq", 200, [](int) { return false; }, fault, fault);
+  io::TumDataset src(test::fr1xyz().string());
+
+  const auto run = [&](const std::string& name, const std::string& extra_config) {
+    const fs::path config = tmp / (name + ".yaml");
+    test::writeText(config, test::readFile(fr1Config()) + extra_config);
+    std::string out;
+    EXPECT_EQ(test::runCli("run --deterministic -q -c " + config.string() + " -d " + (tmp / "seq").string() +
+                               " -o " + (tmp / name).string(),
+                           &out),
+              0)
+        << out;
+    // The ATE of the real frames only (the mirrored ones are a different scene).
+    std::vector<io::TrajectoryEntry> real;
+    for (const auto& e : io::readTumTrajectory((tmp / name / "trajectory.txt").string())) {
+      if (e.timestamp < src.entry(40).rgb_timestamp - 1e-3 || e.timestamp > src.entry(79).rgb_timestamp + 1e-3) {
+        real.push_back(e);
+      }
+    }
+    EXPECT_GT(real.size(), 130u);
+    const auto gt = io::readTumTrajectory((test::fr1xyz() / "groundtruth.txt").string());
+    return std::make_pair(out, eval::computeAte(gt, real).stats.rmse);
+  };
+  const auto [log, ate] = run("anchored", "");
+  EXPECT_NE(log.find("new map segment(s), 1 re-anchored"), std::string::npos) << log;
+  EXPECT_NE(test::readFile(tmp / "anchored" / "frame_log.txt").find(" reanchored "), std::string::npos);
+  EXPECT_LT(ate, 0.025);
+  const auto [plain_log, plain_ate] = run("plain", "\ntracking:\n  reanchor_segments: false\n");
+  EXPECT_NE(plain_log.find("new map segment(s), 0 re-anchored"), std::string::npos) << plain_log;
+  EXPECT_GT(plain_ate, 1.5 * ate) << "the segments do not line up without re-anchoring";
 }
 
 TEST(FaultTolerance, InterruptWritesTheOutputsComputedSoFar) {

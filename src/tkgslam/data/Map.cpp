@@ -93,16 +93,28 @@ std::vector<std::shared_ptr<MapPoint>> Map::mapPoints() const {
   return out;
 }
 
-void Map::clearActive() {
+void Map::clearActive(size_t keep_features) {
   for (auto& kv : points_) kv.second->bad = true;
   points_.clear();
+  size_t left = keyframes_.size();
   for (auto& kv : keyframes_) {
     kv.second->connections.clear();
     kv.second->ordered_connections.clear();
-    kv.second->releaseFeatures();
+    if (left-- > keep_features) kv.second->releaseFeatures();
     kv.second->not_erase = true;
   }
   keyframes_.clear();
+  ++generation_;
+}
+
+void Map::transformActive(const Pose& T_new_old) {
+  const Pose T_old_new = T_new_old.inverse();
+  for (auto& kv : keyframes_) kv.second->setPose(orthonormalized(kv.second->T_cw() * T_old_new));
+  for (auto& kv : points_) {
+    kv.second->pos_w = T_new_old * kv.second->pos_w;
+    kv.second->normal = T_new_old.linear() * kv.second->normal;
+  }
+  ++generation_;
 }
 
 }  // namespace tkgslam::data

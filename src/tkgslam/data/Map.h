@@ -38,12 +38,20 @@ class Map {
   size_t mapPointCount() const { return points_.size(); }
   /// Every keyframe ever created (culled ones too), by id: frame poses are stored relative to one.
   const std::map<long, std::shared_ptr<KeyFrame>>& allKeyFrames() const { return all_keyframes_; }
-  /// Drops every active keyframe and point (a new map segment starts); history is kept.
-  void clearActive();
+  /// Drops every active keyframe and point (a new map segment starts); history is kept. The
+  /// last `keep_features` keyframes (by id) keep their features, to re-anchor the next segment.
+  void clearActive(size_t keep_features = 0);
+  /// Moves the active map into another world frame: p_new = T_new_old * p_old for every active
+  /// point, and every active keyframe's T_cw becomes T_cw * T_new_old^-1. Bumps generation().
+  void transformActive(const Pose& T_new_old);
+  /// Changes whenever the active map's world frame changes (transformActive, clearActive), so
+  /// work computed outside the lock in the old frame (bundle adjustment) is not written back.
+  long generation() const { return generation_; }
 
  private:
   std::mutex mutex_;
   long next_kf_id_ = 0, next_mp_id_ = 0;
+  long generation_ = 0;
   std::map<long, std::shared_ptr<KeyFrame>> keyframes_;
   std::map<long, std::shared_ptr<MapPoint>> points_;
   std::map<long, std::shared_ptr<KeyFrame>> all_keyframes_;

@@ -159,6 +159,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     s.get("max_frames_between_keyframes", c.tracking.max_frames_between_keyframes);
     s.get("relocalization_attempts", c.tracking.relocalization_attempts);
     s.get("max_predicted_frames", c.tracking.max_predicted_frames);
+    s.get("reanchor_segments", c.tracking.reanchor_segments);
     s.checkNoUnknownKeys();
     require(c.tracking.min_init_features >= 10, source, "tracking.min_init_features must be >= 10");
     require(c.tracking.min_tracked_inliers >= 6, source, "tracking.min_tracked_inliers must be >= 6");

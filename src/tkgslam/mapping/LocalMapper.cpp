@@ -101,8 +101,10 @@ void LocalMapper::localBundleAdjustment(KeyFrame& kf) {
   std::vector<std::shared_ptr<KeyFrame>> cams;
   std::vector<std::shared_ptr<MapPoint>> points;
   std::vector<std::pair<KeyFrame*, MapPoint*>> obs_refs;
+  long generation = 0;
   {
     std::lock_guard<std::mutex> lock(map_.mutex());
+    generation = map_.generation();
     // Local window: the keyframe and all its covisible keyframes.
     std::vector<KeyFrame*> local{&kf};
     kf.ba_local_for = kf.id;
@@ -154,6 +156,8 @@ void LocalMapper::localBundleAdjustment(KeyFrame& kf) {
   const auto outlier = optimize::solveBundle(problem, K_, opts);
   {
     std::lock_guard<std::mutex> lock(map_.mutex());
+    // Tracking moved the map into another frame (or started a new one) while the solver ran.
+    if (map_.generation() != generation) return;
     for (size_t k = 0; k < outlier.size(); ++k) {
       if (!outlier[k]) continue;
       auto [okf, mp] = obs_refs[k];

@@ -21,6 +21,8 @@ struct TrackingParams {
   /// Untrackable frames in a row given the constant-velocity prediction (marked "predicted" in
   /// frame_log.txt) before the camera counts as lost; 0 = lost at the first one (ORB-SLAM2).
   int max_predicted_frames = 3;
+  /// Move a new map segment into the previous one's frame once it sees the same scene again.
+  bool reanchor_segments = true;
 };
 
 struct MappingParams {

@@ -73,6 +73,7 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     }
     temporal_points_.clear();
     if (needNewKeyFrame(frame, mapper_idle, mapper_queue)) result.new_keyframe = createKeyFrame(frame);
+    if (result.new_keyframe && !anchor_candidates_.empty()) result.reanchored = reanchorSegment(frame);
     for (int i = 0; i < frame.size(); ++i) {
       if (frame.outlier[i]) frame.map_points[i].reset();
     }
@@ -107,7 +108,17 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     // depth - the old map is kept for relocalisation.)
     frame.T_cw = last_frame_->T_cw;
     spdlog::warn("tracking lost for {} frames; starting a new map segment at frame {}", lost_frames_, frame.id);
-    map_.clearActive();
+    // Re-anchor candidates: this segment's last keyframes, and those of the segment before if
+    // this one never found it (a short segment on blurred frames must not hide a long one).
+    auto kfs = map_.keyFrames();
+    const size_t keep = cfg_.tracking.reanchor_segments ? std::min(kfs.size(), kAnchorCandidates) : 0;
+    if (anchor_candidates_.size() > kAnchorCandidates) {
+      for (size_t k = kAnchorCandidates; k < anchor_candidates_.size(); ++k) anchor_candidates_[k]->releaseFeatures();
+      anchor_candidates_.resize(kAnchorCandidates);
+    }
+    anchor_candidates_.insert(anchor_candidates_.begin(), kfs.end() - keep, kfs.end());
+    anchor_keyframes_left_ = kAnchorAttempts;
+    map_.clearActive(keep);
     if (initialize(frame, true)) {
       result.tracked = true;
       result.new_keyframe = last_kf_;
@@ -460,39 +471,14 @@ bool Tracker::relocalize(Frame& frame) {
   auto kfs = map_.keyFrames();
   if (kfs.empty()) return false;
   const size_t first = kfs.size() > 30 ? kfs.size() - 30 : 0;
-  const auto& F = *frame.features;
   for (size_t k = kfs.size(); k-- > first;) {
     const auto& kf = kfs[k];
     std::vector<std::shared_ptr<MapPoint>> matches;
     if (matcher_.searchByDescriptors(*kf, frame, matches) < 15) continue;
-    std::vector<cv::Point3f> obj;
-    std::vector<cv::Point2f> img;
-    std::vector<int> idx;
-    for (int i = 0; i < frame.size(); ++i) {
-      if (!matches[i]) continue;
-      const Vec3& p = matches[i]->pos_w;
-      obj.emplace_back(float(p.x()), float(p.y()), float(p.z()));
-      img.push_back(F.ideal[i].pt);
-      idx.push_back(i);
-    }
-    const cv::Matx33d K(cam_.fx(), 0, cam_.cx(), 0, cam_.fy(), cam_.cy(), 0, 0, 1);
-    cv::Mat rvec, tvec;
-    std::vector<int> inliers;
-    if (!cv::solvePnPRansac(obj, img, K, cv::noArray(), rvec, tvec, false, 200, 4.0f, 0.99, inliers,
-                            cv::SOLVEPNP_EPNP) ||
-        inliers.size() < 15) {
-      continue;
-    }
-    cv::Mat R;
-    cv::Rodrigues(rvec, R);
-    Pose T = Pose::Identity();
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) T.linear()(r, c) = R.at<double>(r, c);
-      T.translation()[r] = tvec.at<double>(r);
-    }
+    Pose T;
+    if (solvePnp(frame, matches, T) < 15) continue;
     frame.T_cw = T;
-    std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
-    for (int i : inliers) frame.map_points[idx[i]] = matches[idx[i]];
+    frame.map_points = matches;
     std::fill(frame.outlier.begin(), frame.outlier.end(), 0);
     if (optimizeFramePose(frame) < 10) continue;
     if (discardOutliers(frame) < 15) continue;
@@ -502,6 +488,97 @@ bool Tracker::relocalize(Frame& frame) {
     return true;
   }
   return false;
+}
+
+int Tracker::solvePnp(const Frame& frame, std::vector<std::shared_ptr<MapPoint>>& matches, Pose& T_cw) const {
+  const auto& F = *frame.features;
+  std::vector<cv::Point3f> obj;
+  std::vector<cv::Point2f> img;
+  std::vector<int> idx;
+  for (int i = 0; i < frame.size(); ++i) {
+    if (!matches[i]) continue;
+    const Vec3& p = matches[i]->pos_w;
+    obj.emplace_back(float(p.x()), float(p.y()), float(p.z()));
+    img.push_back(F.ideal[i].pt);
+    idx.push_back(i);
+  }
+  if (obj.size() < 6) return 0;
+  const cv::Matx33d K(cam_.fx(), 0, cam_.cx(), 0, cam_.fy(), cam_.cy(), 0, 0, 1);
+  cv::Mat rvec, tvec;
+  std::vector<int> inliers;
+  if (!cv::solvePnPRansac(obj, img, K, cv::noArray(), rvec, tvec, false, 200, 4.0f, 0.99, inliers,
+                          cv::SOLVEPNP_EPNP) ||
+      inliers.empty()) {
+    return 0;
+  }
+  cv::Mat R;
+  cv::Rodrigues(rvec, R);
+  T_cw = Pose::Identity();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) T_cw.linear()(r, c) = R.at<double>(r, c);
+    T_cw.translation()[r] = tvec.at<double>(r);
+  }
+  std::vector<std::shared_ptr<MapPoint>> kept(matches.size());
+  for (int i : inliers) kept[idx[i]] = matches[idx[i]];
+  matches = std::move(kept);
+  return int(inliers.size());
+}
+
+bool Tracker::reanchorSegment(Frame& frame) {
+  // Nearest first: the new segment starts where the camera was last seen, so it is roughly in
+  // the previous segment's frame already.
+  const Vec3 c = frame.centre();
+  auto candidates = anchor_candidates_;
+  std::stable_sort(candidates.begin(), candidates.end(), [&](const auto& a, const auto& b) {
+    return (a->centre() - c).squaredNorm() < (b->centre() - c).squaredNorm();
+  });
+  // The nearest ones, and one more in turn: the nearest may be blurred, or from a short segment
+  // that never got going; the turn reaches every candidate within a few keyframes.
+  if (candidates.size() > kAnchorTries) {
+    std::swap(candidates[kAnchorTries - 1],
+              candidates[kAnchorTries - 1 + anchor_turn_++ % (candidates.size() - kAnchorTries + 1)]);
+    candidates.resize(kAnchorTries);
+  }
+  for (const auto& old : candidates) {
+    // The old keyframe's keypoints with depth, as 3-D points in the previous segment's frame.
+    const auto& F = *old->features;
+    KeyFrame probe_kf(-1, old->frame_id, old->timestamp, old->features, old->T_cw());
+    probe_kf.map_points.resize(F.size());
+    for (int i = 0; i < F.size(); ++i) {
+      if (!F.hasDepth(i) || F.excluded[i]) continue;
+      const Vec3 pw = old->T_wc() * cam_.unproject(Vec2(F.ideal[i].pt.x, F.ideal[i].pt.y), F.depth[i]);
+      probe_kf.map_points[i] = std::make_shared<MapPoint>(-1, pw, nullptr, F.descriptors.row(i));
+    }
+    std::vector<std::shared_ptr<MapPoint>> matches;
+    const int n = matcher_.searchByDescriptors(probe_kf, frame, matches);
+    Frame probe = frame;
+    const int pnp = n < kAnchorMinInliers ? 0 : solvePnp(probe, matches, probe.T_cw);
+    int inliers = 0;
+    if (pnp >= kAnchorMinInliers) {
+      probe.map_points = matches;
+      std::fill(probe.outlier.begin(), probe.outlier.end(), 0);
+      inliers = optimizeFramePose(probe);
+    }
+    spdlog::debug("frame {}: re-anchoring to keyframe {}: {} matches, {} PnP inliers, {} after optimisation", frame.id,
+                  old->id, n, pnp, inliers);
+    if (inliers < kAnchorMinInliers) continue;
+    // T_old_new maps the new segment's world into the previous one's.
+    const Pose T_old_new = orthonormalized(probe.T_cw.inverse() * frame.T_cw);
+    map_.transformActive(T_old_new);
+    frame.T_cw = orthonormalized(frame.T_cw * T_old_new.inverse());
+    last_frame_->T_cw = orthonormalized(last_frame_->T_cw * T_old_new.inverse());
+    spdlog::info("frame {}: map segment re-anchored to keyframe {} of the previous one ({} inliers, moved {:.3f} m)",
+                 frame.id, old->id, inliers, T_old_new.translation().norm());
+    releaseAnchor();
+    return true;
+  }
+  if (--anchor_keyframes_left_ <= 0) releaseAnchor();
+  return false;
+}
+
+void Tracker::releaseAnchor() {
+  for (auto& kf : anchor_candidates_) kf->releaseFeatures();
+  anchor_candidates_.clear();
 }
 
 }  // namespace tkgslam::tracking

@@ -2,7 +2,9 @@
 // Camera tracking (ORB-SLAM2's RGB-D tracking): map initialisation from the first frame with
 // enough depth, constant-velocity motion model with projection matching, fallback to the
 // reference keyframe, local-map tracking, keyframe decision, relocalisation when lost and a new
-// map segment when relocalisation keeps failing. Never aborts the run.
+// map segment when relocalisation keeps failing. Beyond ORB-SLAM2: a few untrackable frames are
+// bridged by the motion model, and a new segment is re-anchored (one rigid correction) to the
+// previous one once it sees the same scene again. Never aborts the run.
 #include <functional>
 #include <memory>
 #include <vector>
@@ -28,6 +30,8 @@ struct TrackResult {
   /// Too few matches to track, but the motion model bridged the frame: the pose is the constant-
   /// velocity prediction (tracked is also true). See TrackingConfig::max_predicted_frames.
   bool predicted = false;
+  /// The current map segment was moved into the previous segment's frame at this frame.
+  bool reanchored = false;
 };
 
 /// A frame's pose stored relative to its reference keyframe, so that later keyframe
@@ -60,11 +64,28 @@ class Tracker {
   const data::Frame* lastFrame() const { return last_frame_.get(); }
 
  private:
+  static constexpr size_t kAnchorCandidates = 20;  ///< previous segment's keyframes kept
+  static constexpr size_t kAnchorTries = 3;        ///< of them tried per new keyframe
+  static constexpr int kAnchorAttempts = 40;       ///< new keyframes that try before giving up
+  /// A wrong correction would move the whole segment: as many inliers (reprojection and depth
+  /// both consistent) as ORB-SLAM2 asks of a loop closure, more than of a relocalisation.
+  static constexpr int kAnchorMinInliers = 40;
+
   bool canInitialize(const data::Frame& frame) const;
   bool initialize(data::Frame& frame, bool new_segment);
   bool trackWithMotionModel(data::Frame& frame);
   bool trackReferenceKeyFrame(data::Frame& frame);
   bool relocalize(data::Frame& frame);
+  /// EPnP + RANSAC from the 3-D points in `matches` (per keypoint of `frame`, may be null) to
+  /// their keypoints. On success sets T_cw and keeps only the RANSAC inliers in `matches`.
+  /// Returns the inlier count (0 on failure).
+  int solvePnp(const data::Frame& frame, std::vector<std::shared_ptr<data::MapPoint>>& matches, Pose& T_cw) const;
+  /// A new map segment started at the last known pose, off by however far the camera moved while
+  /// lost. Once a new keyframe sees what one of the previous segment's last keyframes saw, the
+  /// segment is moved into the previous segment's world frame (one rigid correction), so both
+  /// halves of the trajectory line up. Returns true when it did.
+  bool reanchorSegment(data::Frame& frame);
+  void releaseAnchor();
   bool trackLocalMap(data::Frame& frame);
   void updateLastFrame();
   void updateLocalMap(data::Frame& frame);
@@ -101,6 +122,10 @@ class Tracker {
   int predicted_frames_ = 0;  ///< frames bridged by the motion model since the last tracked one
   int matches_inliers_ = 0;
   std::vector<FrameRecord> records_;
+  /// The previous segment's last keyframes (features kept) a new segment may be re-anchored to.
+  std::vector<std::shared_ptr<data::KeyFrame>> anchor_candidates_;
+  size_t anchor_turn_ = 0;
+  int anchor_keyframes_left_ = 0;  ///< new keyframes that may still try before giving up
 };
 
 }  // namespace tkgslam::tracking
