@@ -20,7 +20,7 @@ def load(path):
 def cell(seq, mode):
     d = os.path.join(out, "runs", seq, mode)
     return load(os.path.join(d, "eval.json")) or {}, load(os.path.join(d, "timing.json")) or {}, \
-        load(os.path.join(d, "dynamic_eval.json"))
+        load(os.path.join(d, "dynamic_eval.json")), load(os.path.join(d, "run.json")) or {}
 
 
 def fmt(x, nd=4):
@@ -58,12 +58,13 @@ print("Composites: real people (cut out of real photos) walking their own 3-D pa
       "poses 15 frames late); TKGt = lookahead with tiled detector runs (every 2nd frame detected, 4 frames "
       "tiled 2x2 at half size into one run, still one run per 8 frames; poses 15 frames late).")
 table("ATE RMSE / S.D. (m)  — cf. the paper's Table 1 and 3",
-      lambda ev, t, d: f"{fmt(stat(ev, 'ate_m', 'rmse'))} / {fmt(stat(ev, 'ate_m', 'std'))}")
+      lambda ev, t, d, r: f"{fmt(stat(ev, 'ate_m', 'rmse'))} / {fmt(stat(ev, 'ate_m', 'std'))}")
 table("RPE translation RMSE / S.D. (m, 1 s) — cf. Table 2",
-      lambda ev, t, d: f"{fmt(stat(ev, 'rpe_translation_m', 'rmse'))} / {fmt(stat(ev, 'rpe_translation_m', 'std'))}")
-table("Tracked frames (%)", lambda ev, t, d: fmt(tracked(ev), 1))
+      lambda ev, t, d, r: f"{fmt(stat(ev, 'rpe_translation_m', 'rmse'))} / {fmt(stat(ev, 'rpe_translation_m', 'std'))}")
+table("Tracked frames (%; in brackets the frames whose pose is the motion model's prediction)",
+      lambda ev, t, d, r: fmt(tracked(ev), 1) + (f" ({r['predicted']})" if r.get("predicted") else ""))
 table("Dynamic keypoints vs ground-truth masks: precision / recall",
-      lambda ev, t, d: "—" if not d else f"{d['precision']:.2f} / {d['recall']:.2f}")
+      lambda ev, t, d, r: "—" if not d else f"{d['precision']:.2f} / {d['recall']:.2f}")
 
 # Timing, as multiples of T = ORB extraction + tracking of the orb baseline (Table 4).
 print("\n### Mean time per frame as multiples of T (cf. Table 4)\n")
@@ -72,12 +73,12 @@ print("T = mean ORB extraction + tracking per frame of the `orb` run on the same
 print("| sequence | mode | T (ms) | YOLO | KALMAN | GEOME | ALL |")
 print("|---|---|---|---|---|---|---|")
 for s in seqs:
-    _, base, _ = cell(s, "orb")
+    _, base, _, _ = cell(s, "orb")
     if not base:
         continue
     T = base["orb_and_tracking"]["mean_ms"]
     for m in modes:
-        _, t, _ = cell(s, m)
+        _, t, _, _ = cell(s, m)
         if not t:
             continue
         n = t["total"]["count"]
@@ -112,7 +113,7 @@ def precision_recall_svg(path):
     legend_y = M
     for s, shape in shapes.items():
         for m, col in colours.items():
-            _, _, d = cell(s, m)
+            _, _, d, _ = cell(s, m)
             if not d:
                 continue
             x = M + d["recall"] * (W - 2 * M)

@@ -104,12 +104,15 @@ void Map::clearActive(size_t keep_features) {
     kv.second->not_erase = true;
   }
   keyframes_.clear();
+  segment_first_kf_id_ = next_kf_id_;
   ++generation_;
 }
 
 void Map::transformActive(const Pose& T_new_old) {
   const Pose T_old_new = T_new_old.inverse();
-  for (auto& kv : keyframes_) kv.second->setPose(orthonormalized(kv.second->T_cw() * T_old_new));
+  for (auto it = all_keyframes_.lower_bound(segment_first_kf_id_); it != all_keyframes_.end(); ++it) {
+    it->second->setPose(orthonormalized(it->second->T_cw() * T_old_new));
+  }
   for (auto& kv : points_) {
     kv.second->pos_w = T_new_old * kv.second->pos_w;
     kv.second->normal = T_new_old.linear() * kv.second->normal;

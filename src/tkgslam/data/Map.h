@@ -41,8 +41,9 @@ class Map {
   /// Drops every active keyframe and point (a new map segment starts); history is kept. The
   /// last `keep_features` keyframes (by id) keep their features, to re-anchor the next segment.
   void clearActive(size_t keep_features = 0);
-  /// Moves the active map into another world frame: p_new = T_new_old * p_old for every active
-  /// point, and every active keyframe's T_cw becomes T_cw * T_new_old^-1. Bumps generation().
+  /// Moves the current map segment into another world frame: p_new = T_new_old * p_old for every
+  /// active point, and the T_cw of every keyframe of the segment (culled ones too: frames may be
+  /// stored relative to them) becomes T_cw * T_new_old^-1. Bumps generation().
   void transformActive(const Pose& T_new_old);
   /// Changes whenever the active map's world frame changes (transformActive, clearActive), so
   /// work computed outside the lock in the old frame (bundle adjustment) is not written back.
@@ -52,6 +53,7 @@ class Map {
   std::mutex mutex_;
   long next_kf_id_ = 0, next_mp_id_ = 0;
   long generation_ = 0;
+  long segment_first_kf_id_ = 0;  ///< keyframes from this id on belong to the current segment
   std::map<long, std::shared_ptr<KeyFrame>> keyframes_;
   std::map<long, std::shared_ptr<MapPoint>> points_;
   std::map<long, std::shared_ptr<KeyFrame>> all_keyframes_;

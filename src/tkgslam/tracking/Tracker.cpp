@@ -31,6 +31,8 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
   }
 
   bool ok = false;
+  // A velocity needs two consecutive tracked frames (not one across a relocalisation gap).
+  const bool after_loss = state_ == TrackingState::Lost;
   if (state_ == TrackingState::Ok) {
     // Replace points fused by local mapping since the last frame.
     for (auto& mp : last_frame_->map_points) {
@@ -63,7 +65,7 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     // After bridged frames the step spans several frames; the previous velocity stays.
     if (predicted_frames_ == 0) velocity_ = orthonormalized(frame.T_cw * last_frame_->T_cw.inverse());
     predicted_frames_ = 0;
-    has_velocity_ = true;
+    has_velocity_ = !after_loss;
     // Temporary visual-odometry points are not map points; forget them.
     for (int i = 0; i < frame.size(); ++i) {
       if (frame.map_points[i] && frame.map_points[i]->observations.empty()) {
