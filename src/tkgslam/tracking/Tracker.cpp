@@ -94,7 +94,7 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     frame.T_cw = predictPose();
     ++predicted_frames_;
     const auto& ref = reference_kf_ ? reference_kf_ : last_frame_->reference;
-    records_.push_back({frame.timestamp, ref, frame.T_cw * ref->T_wc(), true});
+    records_.push_back({frame.timestamp, ref, frame.T_cw * ref->T_wc()});
     result.tracked = true;
     result.predicted = true;
     return result;
@@ -553,19 +553,22 @@ bool Tracker::reanchorSegment(Frame& frame) {
     }
     std::vector<std::shared_ptr<MapPoint>> matches;
     const int n = matcher_.searchByDescriptors(probe_kf, frame, matches);
-    Frame probe = frame;
-    const int pnp = n < kAnchorMinInliers ? 0 : solvePnp(probe, matches, probe.T_cw);
+    Pose T_cw_old = Pose::Identity();  // the frame's pose in the previous segment's world
+    const int pnp = n < kAnchorMinInliers ? 0 : solvePnp(frame, matches, T_cw_old);
     int inliers = 0;
     if (pnp >= kAnchorMinInliers) {
+      Frame probe = frame;  // the pose optimisation works on a frame's matches
+      probe.T_cw = T_cw_old;
       probe.map_points = matches;
       std::fill(probe.outlier.begin(), probe.outlier.end(), 0);
       inliers = optimizeFramePose(probe);
+      T_cw_old = probe.T_cw;
     }
     spdlog::debug("frame {}: re-anchoring to keyframe {}: {} matches, {} PnP inliers, {} after optimisation", frame.id,
                   old->id, n, pnp, inliers);
     if (inliers < kAnchorMinInliers) continue;
     // T_old_new maps the new segment's world into the previous one's.
-    const Pose T_old_new = orthonormalized(probe.T_cw.inverse() * frame.T_cw);
+    const Pose T_old_new = orthonormalized(T_cw_old.inverse() * frame.T_cw);
     map_.transformActive(T_old_new);
     frame.T_cw = orthonormalized(frame.T_cw * T_old_new.inverse());
     last_frame_->T_cw = orthonormalized(last_frame_->T_cw * T_old_new.inverse());

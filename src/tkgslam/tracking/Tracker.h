@@ -28,7 +28,7 @@ struct TrackResult {
   int inliers = 0;
   bool new_segment = false;  ///< a new map segment was started at this frame
   /// Too few matches to track, but the motion model bridged the frame: the pose is the constant-
-  /// velocity prediction (tracked is also true). See TrackingConfig::max_predicted_frames.
+  /// velocity prediction (tracked is also true). See TrackingParams::max_predicted_frames.
   bool predicted = false;
   /// The current map segment was moved into the previous segment's frame at this frame.
   bool reanchored = false;
@@ -40,7 +40,6 @@ struct FrameRecord {
   double timestamp = 0;
   std::shared_ptr<data::KeyFrame> reference;
   Pose T_cr = Pose::Identity();
-  bool predicted = false;  ///< pose from the motion model, not from matches
 };
 
 /// Called once the frame has a pose from the keypoints outside the boxes; may re-admit keypoints
