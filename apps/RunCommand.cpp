@@ -96,10 +96,10 @@ int runSlam(const RunOptions& o) {
   int n = o.max_frames > 0 ? std::min(o.max_frames, dataset.size()) : dataset.size();
   std::printf("tkgslam run: %d frames from %s (%s, dynamic mode %s)\n", n, o.dataset.c_str(),
               config.deterministic ? "deterministic" : "threaded", toString(config.dynamic.mode));
-  int skipped = 0, lost = 0, predicted = 0, segments = 0, reanchored = 0, processed = 0;
-  // Frames that produced no pose or only a predicted one, and why: "timestamp status reason".
+  int skipped = 0, lost = 0, predicted = 0, blurred = 0, segments = 0, reanchored = 0, processed = 0;
+  // Frames that produced no pose, only a predicted one or were blurred, and why: "timestamp status reason".
   std::ofstream frame_log(out / "frame_log.txt");
-  frame_log << "# frames without a tracked pose: timestamp status reason\n";
+  frame_log << "# frames without a tracked pose, and other events: timestamp status reason\n";
   // Resident memory every 100 frames: long (--loops) runs must stay flat once the map stops growing.
   std::ofstream memory_log(out / "memory.tsv");
   memory_log << "frame\trss_mib\tkeyframes\tmap_points\n";
@@ -119,6 +119,11 @@ int runSlam(const RunOptions& o) {
     if (f.result.predicted) {
       ++predicted;
       frame_log << fmt::format("{:.6f} predicted too few matches: pose from the constant-velocity model\n",
+                               f.timestamp);
+    }
+    if (f.result.blurred) {
+      ++blurred;
+      frame_log << fmt::format("{:.6f} blurred the image is much less sharp than the frames before: no keyframe\n",
                                f.timestamp);
     }
     if (f.result.new_segment) {
@@ -197,18 +202,19 @@ int runSlam(const RunOptions& o) {
   const double ratio = n > 0 ? double(traj.size()) / n : 0.0;
   writeText(out / "run.json",
             fmt::format("{{\"dataset\": \"{}\", \"config\": \"{}\", \"mode\": \"{}\", \"deterministic\": {}, "
-                        "\"frames\": {}, \"tracked\": {}, \"tracked_ratio\": {:.4f}, \"predicted\": {}, \"skipped\": {}, \"keyframes\": {}, "
+                        "\"frames\": {}, \"tracked\": {}, \"tracked_ratio\": {:.4f}, \"predicted\": {}, \"blurred\": {}, \"skipped\": {}, "
+                        "\"keyframes\": {}, "
                         "\"map_points\": {}, \"mean_ms_per_frame\": {:.2f}, \"median_ms_per_frame\": {:.2f}, "
                         "\"ratio_threshold\": {}}}\n",
                         std::filesystem::absolute(o.dataset).lexically_normal().string(),
                         std::filesystem::absolute(o.config).lexically_normal().string(), toString(config.dynamic.mode),
-                        config.deterministic ? "true" : "false", n, traj.size(), ratio, predicted, skipped, slam.keyFrameCount(),
+                        config.deterministic ? "true" : "false", n, traj.size(), ratio, predicted, blurred, skipped, slam.keyFrameCount(),
                         slam.mapPointCount(), slam.timing().mean("total"), slam.timing().median("total"),
                         config.dynamic.geometry.ratio_threshold));
-  std::printf("frames %d, tracked %zu (%.2f %%; %d of them predicted), skipped %d (unreadable), lost %d, keyframes %zu, "
-              "map points %zu%s\n",
-              n, traj.size(), 100.0 * ratio, predicted, skipped, lost, slam.keyFrameCount(), slam.mapPointCount(),
-              skipped + lost + predicted > 0 ? " - see frame_log.txt" : "");
+  std::printf("frames %d, tracked %zu (%.2f %%; %d of them predicted), blurred %d, skipped %d (unreadable), lost %d, "
+              "keyframes %zu, map points %zu%s\n",
+              n, traj.size(), 100.0 * ratio, predicted, blurred, skipped, lost, slam.keyFrameCount(), slam.mapPointCount(),
+              skipped + lost + predicted + blurred > 0 ? " - see frame_log.txt" : "");
   if (segments > 0) {
     std::printf("tracking was lost for good %d time(s): %d new map segment(s), %d re-anchored to the one before\n",
                 segments, segments, reanchored);

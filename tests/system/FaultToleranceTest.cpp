@@ -3,12 +3,14 @@
 // frames it skipped or lost and why, recover after the bad block, and write its outputs.
 // Ctrl-C (SIGINT) must also leave the outputs computed so far.
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <functional>
 
 #include <fmt/format.h>
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <gtest/gtest.h>
 
@@ -23,11 +25,22 @@ namespace {
 namespace fs = std::filesystem;
 
 /// What to write for one frame of a copied fr1_xyz sequence: the original file, or a stand-in.
-enum class FrameFault { None, Unreadable, Black, TruncatedDepth, NoDepth, Mirrored };
+enum class FrameFault { None, Unreadable, Black, TruncatedDepth, NoDepth, Mirrored, MotionBlur };
 
 cv::Mat mirrored(const std::string& path, int flags) {
   cv::Mat m;
   cv::flip(cv::imread(path, flags), m, 1);
+  return m;
+}
+
+/// Camera shake during the exposure: a 31 px straight smear at `angle` radians.
+cv::Mat motionBlurred(const std::string& path, double angle) {
+  cv::Mat kernel = cv::Mat::zeros(31, 31, CV_32F);
+  const cv::Point2d d(15 * std::cos(angle), 15 * std::sin(angle));
+  cv::line(kernel, cv::Point2d(15, 15) - d, cv::Point2d(15, 15) + d, cv::Scalar(1.0));
+  kernel /= cv::sum(kernel)[0];
+  cv::Mat m;
+  cv::filter2D(cv::imread(path, cv::IMREAD_COLOR), m, -1, kernel);
   return m;
 }
 
@@ -49,6 +62,7 @@ void writeFaultySequence(const fs::path& seq, int frames, const std::function<bo
       case FrameFault::Unreadable: test::writeText(rgb, "not an image"); break;
       case FrameFault::Black: cv::imwrite(rgb.string(), cv::Mat::zeros(480, 640, CV_8UC3)); break;
       case FrameFault::Mirrored: cv::imwrite(rgb.string(), mirrored(e.rgb_path, cv::IMREAD_COLOR)); break;
+      case FrameFault::MotionBlur: cv::imwrite(rgb.string(), motionBlurred(e.rgb_path, 0.3 * i)); break;
       default: fs::copy_file(e.rgb_path, rgb);
     }
     switch (depth_fault(i)) {
@@ -160,6 +174,61 @@ TEST(FaultTolerance, ShortUntrackableGapsAreBridgedByTheMotionModel) {
   for (int i : black) {
     EXPECT_NE(strict_log.find(fmt::format("{:.6f} lost", src.entry(i).rgb_timestamp)), std::string::npos) << i;
   }
+}
+
+// Camera shake: a third of the frames smeared by 31 px, up to five in a row. Such frames track
+// poorly or not at all and make useless keyframes; they are recognised by their sharpness, make no
+// keyframes, are not matched against, and when they cannot be tracked the motion model bridges
+// them (longer than sharp frames). Without that (blur_ratio 0) tracking is lost on them.
+TEST(FaultTolerance, MotionBlurredFramesAreBridgedAndMakeNoKeyframes) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  const auto shaken = [](int i) { return (i * 7) % 10 < 3 || (i >= 100 && i < 105); };
+  writeFaultySequence(
+      tmp / "seq", 200, [](int) { return false; },
+      [&](int i) { return shaken(i) ? FrameFault::MotionBlur : FrameFault::None; },
+      [](int) { return FrameFault::None; });
+  io::TumDataset src(test::fr1xyz().string());
+  const auto gt = io::readTumTrajectory((test::fr1xyz() / "groundtruth.txt").string());
+  const auto run = [&](const std::string& name, const std::string& extra_config) {
+    const fs::path cfg = tmp / (name + ".yaml");
+    test::writeText(cfg, test::readFile(fr1Config()) + extra_config);
+    std::string out;
+    EXPECT_EQ(test::runCli("run --deterministic -q -c " + cfg.string() + " -d " + (tmp / "seq").string() + " -o " +
+                               (tmp / name).string(),
+                           &out),
+              0)
+        << out;
+    return out;
+  };
+
+  const std::string out = run("aware", "");
+  const std::string log = test::readFile(tmp / "aware" / "frame_log.txt");
+  int listed = 0;
+  for (int i = 0; i < 200; ++i) {
+    const bool blurred = log.find(fmt::format("{:.6f} blurred", src.entry(i).rgb_timestamp)) != std::string::npos;
+    if (i > 0) {  // the first frame has nothing to compare with
+      EXPECT_EQ(blurred, shaken(i)) << "frame " << i;
+    }
+    listed += blurred;
+  }
+  EXPECT_GE(listed, 60);
+  EXPECT_EQ(log.find(" lost "), std::string::npos) << log;
+  EXPECT_EQ(log.find("new_segment"), std::string::npos) << log;
+  // No keyframe from a blurred frame.
+  std::ifstream kfs(tmp / "aware" / "keyframes.txt");
+  for (std::string line; std::getline(kfs, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    const double t = std::stod(line);
+    for (int i = 1; i < 200; ++i) {
+      if (shaken(i)) {
+        EXPECT_GT(std::abs(t - src.entry(i).rgb_timestamp), 1e-4) << "keyframe at blurred frame " << i;
+      }
+    }
+  }
+  const auto traj = io::readTumTrajectory((tmp / "aware" / "trajectory.txt").string());
+  EXPECT_EQ(traj.size(), 200u);
+  EXPECT_LT(eval::computeAte(gt, traj).stats.rmse, 0.03);
 }
 
 // A long stretch the map cannot explain - here the images mirrored left to right, a scene of their

@@ -24,6 +24,7 @@ struct FrameFeatures {
   cv::Mat descriptors;              ///< N x 32 bytes
   std::vector<char> excluded;       ///< 1 = keypoint must not be used (e.g. on a dynamic object)
   std::vector<cv::Vec3b> colour;    ///< BGR colour at the keypoint (for the exported map)
+  double sharpness = -1;            ///< feature::imageSharpness of the image, < 0 = not measured
 
   float min_x = 0, max_x = 0, min_y = 0, max_y = 0;  ///< image bounds in ideal pixels
   float cell_w_inv = 0, cell_h_inv = 0;

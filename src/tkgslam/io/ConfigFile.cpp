@@ -160,6 +160,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     s.get("relocalization_attempts", c.tracking.relocalization_attempts);
     s.get("max_predicted_frames", c.tracking.max_predicted_frames);
     s.get("reanchor_segments", c.tracking.reanchor_segments);
+    s.get("blur_ratio", c.tracking.blur_ratio);
     s.checkNoUnknownKeys();
     require(c.tracking.min_init_features >= 10, source, "tracking.min_init_features must be >= 10");
     require(c.tracking.min_tracked_inliers >= 6, source, "tracking.min_tracked_inliers must be >= 6");
@@ -168,6 +169,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     require(c.tracking.relocalization_attempts >= 0, source, "tracking.relocalization_attempts must be >= 0");
     require(c.tracking.max_predicted_frames >= 0 && c.tracking.max_predicted_frames <= 30, source,
             "tracking.max_predicted_frames must be in [0, 30]");
+    require(c.tracking.blur_ratio >= 0 && c.tracking.blur_ratio < 1, source, "tracking.blur_ratio must be in [0, 1)");
   }
   {
     Section s(root, "mapping", source, false);

@@ -23,6 +23,11 @@ struct TrackingParams {
   int max_predicted_frames = 3;
   /// Move a new map segment into the previous one's frame once it sees the same scene again.
   bool reanchor_segments = true;
+  /// A frame whose sharpness (feature::imageSharpness) is below this share of the median of the
+  /// last frames counts as blurred: it makes no keyframe and is not matched against (the frame
+  /// before it is), and when it cannot be tracked its prediction does not count against
+  /// max_predicted_frames. 0 = off.
+  double blur_ratio = 0.3;
 };
 
 struct MappingParams {

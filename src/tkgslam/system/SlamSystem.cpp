@@ -8,6 +8,7 @@
 
 #include "tkgslam/common/Elapsed.h"
 #include "tkgslam/dynamic/DynamicFilter.h"
+#include "tkgslam/feature/ImageSharpness.h"
 
 namespace tkgslam {
 
@@ -117,6 +118,7 @@ SlamSystem::PreparedFrame SlamSystem::prepare(const io::RgbdImages& images) {
   }
   auto orb = extractor_.extract(images.gray);
   f.features = data::makeFrameFeatures(std::move(orb), images.bgr, images.depth_m, camera_, config_.depth);
+  if (config_.tracking.blur_ratio > 0) f.features->sharpness = feature::imageSharpness(images.gray);
   f.prepare_ms = msSince(t0);
   timing_.add("orb_extraction", f.prepare_ms);
   return f;

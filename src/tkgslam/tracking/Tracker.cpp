@@ -22,6 +22,7 @@ Tracker::Tracker(data::Map& map, const camera::PinholeCamera& camera, const feat
 TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, const RefineKeypoints& refine) {
   std::lock_guard<std::mutex> lock(map_.mutex());
   TrackResult result;
+  result.blurred = checkBlurred(frame);
   if (state_ == TrackingState::NotInitialized) {
     if (initialize(frame, false)) {
       result.tracked = true;
@@ -59,13 +60,11 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     }
   }
 
+  // Blurred frames get bridged for longer than sharp ones: they are expected to fail.
+  const int max_gap = 3 * cfg_.tracking.max_predicted_frames;
   if (ok) {
     state_ = TrackingState::Ok;
     lost_frames_ = 0;
-    // After bridged frames the step spans several frames; the previous velocity stays.
-    if (predicted_frames_ == 0) velocity_ = orthonormalized(frame.T_cw * last_frame_->T_cw.inverse());
-    predicted_frames_ = 0;
-    has_velocity_ = !after_loss;
     // Temporary visual-odometry points are not map points; forget them.
     for (int i = 0; i < frame.size(); ++i) {
       if (frame.map_points[i] && frame.map_points[i]->observations.empty()) {
@@ -74,6 +73,20 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
       }
     }
     temporal_points_.clear();
+    if (result.blurred && !after_loss && gap_frames_ < max_gap) {
+      // Tracked, but a blurred image is a poor keyframe and a poor frame to match the next one
+      // against: its pose is kept, the frame is not.
+      ++gap_frames_;
+      records_.push_back({frame.timestamp, reference_kf_, frame.T_cw * reference_kf_->T_wc()});
+      result.tracked = true;
+      result.inliers = matches_inliers_;
+      return result;
+    }
+    // After bridged frames the step spans several frames; the previous velocity stays.
+    if (gap_frames_ == 0) velocity_ = orthonormalized(frame.T_cw * last_frame_->T_cw.inverse());
+    gap_frames_ = 0;
+    predicted_frames_ = 0;
+    has_velocity_ = !after_loss;
     if (needNewKeyFrame(frame, mapper_idle, mapper_queue)) result.new_keyframe = createKeyFrame(frame);
     if (result.new_keyframe && !anchor_candidates_.empty()) result.reanchored = reanchorSegment(frame);
     for (int i = 0; i < frame.size(); ++i) {
@@ -87,12 +100,16 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     return result;
   }
 
-  if (state_ == TrackingState::Ok && has_velocity_ && predicted_frames_ < cfg_.tracking.max_predicted_frames) {
+  const bool bridge = result.blurred ? gap_frames_ < max_gap : predicted_frames_ < cfg_.tracking.max_predicted_frames;
+  // Right after a map start or a relocalisation there is no velocity yet; a blurred frame then
+  // keeps the last pose rather than losing the map.
+  if (state_ == TrackingState::Ok && (has_velocity_ || result.blurred) && bridge) {
     // A few untrackable frames in a tracked run (heavy motion blur, a person filling the view):
     // bridge them with the motion model and keep tracking against the last tracked frame, rather
     // than relocalising from scratch. No keyframes come from these frames.
     frame.T_cw = predictPose();
-    ++predicted_frames_;
+    ++gap_frames_;
+    if (!result.blurred) ++predicted_frames_;
     const auto& ref = reference_kf_ ? reference_kf_ : last_frame_->reference;
     records_.push_back({frame.timestamp, ref, frame.T_cw * ref->T_wc()});
     result.tracked = true;
@@ -102,6 +119,7 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
   state_ = TrackingState::Lost;
   has_velocity_ = false;
   predicted_frames_ = 0;
+  gap_frames_ = 0;
   ++lost_frames_;
   temporal_points_.clear();
   if (lost_frames_ > cfg_.tracking.relocalization_attempts && canInitialize(frame)) {
@@ -179,7 +197,7 @@ void Tracker::updateLastFrame() {
   Frame& last = *last_frame_;
   // The reference keyframe may have been refined by bundle adjustment since. (Records after the
   // last frame's are motion-model predictions.)
-  const auto rec = records_.end() - std::min<std::ptrdiff_t>(records_.size(), predicted_frames_ + 1);
+  const auto rec = records_.end() - std::min<std::ptrdiff_t>(records_.size(), gap_frames_ + 1);
   if (rec != records_.end() && rec->reference && !rec->reference->bad) {
     last.T_cw = orthonormalized(rec->T_cr * rec->reference->T_cw());
   }
@@ -282,9 +300,34 @@ bool Tracker::trackWithMotionModel(Frame& frame) {
   return in_map >= 10;
 }
 
+bool Tracker::checkBlurred(const Frame& frame) {
+  const double s = frame.features->sharpness;
+  if (cfg_.tracking.blur_ratio <= 0 || s < 0) return false;
+  bool blurred = false;
+  if (!recent_sharpness_.empty()) {
+    std::vector<double> sorted(recent_sharpness_.begin(), recent_sharpness_.end());
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    blurred = s < cfg_.tracking.blur_ratio * sorted[sorted.size() / 2];
+  }
+  // The yardstick is the sharp frames only (blur comes in runs); a long run of "blurred" frames
+  // means the scene itself changed, and the yardstick starts again.
+  blurred_run_ = blurred ? blurred_run_ + 1 : 0;
+  if (blurred_run_ > int(kSharpnessWindow)) {
+    recent_sharpness_.clear();
+    blurred_run_ = 0;
+    blurred = false;
+  }
+  if (!blurred) {
+    recent_sharpness_.push_back(s);
+    if (recent_sharpness_.size() > kSharpnessWindow) recent_sharpness_.pop_front();
+  }
+  return blurred;
+}
+
 Pose Tracker::predictPose() const {
   Pose T = last_frame_->T_cw;
-  for (int k = 0; k <= predicted_frames_; ++k) T = velocity_ * T;
+  if (!has_velocity_) return T;
+  for (int k = 0; k <= gap_frames_; ++k) T = velocity_ * T;
   return orthonormalized(T);
 }
 

@@ -6,6 +6,7 @@
 // bridged by the motion model, and a new segment is re-anchored (one rigid correction) to the
 // previous one once it sees the same scene again. Never aborts the run.
 #include <functional>
+#include <deque>
 #include <memory>
 #include <vector>
 
@@ -32,6 +33,8 @@ struct TrackResult {
   bool predicted = false;
   /// The current map segment was moved into the previous segment's frame at this frame.
   bool reanchored = false;
+  /// The image is much less sharp than the frames before it (TrackingParams::blur_ratio).
+  bool blurred = false;
 };
 
 /// A frame's pose stored relative to its reference keyframe, so that later keyframe
@@ -69,6 +72,7 @@ class Tracker {
   /// A wrong correction would move the whole segment: as many inliers (reprojection and depth
   /// both consistent) as ORB-SLAM2 asks of a loop closure, more than of a relocalisation.
   static constexpr int kAnchorMinInliers = 40;
+  static constexpr size_t kSharpnessWindow = 15;  ///< sharp frames whose median sharpness is the yardstick
 
   bool canInitialize(const data::Frame& frame) const;
   bool initialize(data::Frame& frame, bool new_segment);
@@ -96,8 +100,10 @@ class Tracker {
   /// Drops outlier matches; returns the matches that are map points (not temporary ones).
   int discardOutliers(data::Frame& frame);
   bool isInFrustum(data::MapPoint& mp, const data::Frame& frame, double min_view_cos) const;
-  /// Constant-velocity prediction for the current frame: `predicted_frames_ + 1` steps of the
-  /// last velocity from the last tracked frame.
+  /// Records the frame's sharpness; true if it is blurred relative to the recent frames.
+  bool checkBlurred(const data::Frame& frame);
+  /// Constant-velocity prediction for the current frame: `gap_frames_ + 1` steps of the last
+  /// velocity from the last frame tracked against.
   Pose predictPose() const;
 
   data::Map& map_;
@@ -118,7 +124,11 @@ class Tracker {
   bool has_velocity_ = false;
   long last_reloc_frame_ = -1000;
   int lost_frames_ = 0;
-  int predicted_frames_ = 0;  ///< frames bridged by the motion model since the last tracked one
+  int predicted_frames_ = 0;  ///< sharp frames in a row bridged by the motion model
+  /// Frames posed since last_frame_ without replacing it (predicted ones, blurred tracked ones).
+  int gap_frames_ = 0;
+  std::deque<double> recent_sharpness_;  ///< of the last kSharpnessWindow sharp frames
+  int blurred_run_ = 0;                   ///< blurred frames in a row
   int matches_inliers_ = 0;
   std::vector<FrameRecord> records_;
   /// The previous segment's last keyframes (features kept) a new segment may be re-anchored to.
