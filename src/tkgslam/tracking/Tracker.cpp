@@ -24,7 +24,8 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
   TrackResult result;
   result.blurred = checkBlurred(frame);
   if (state_ == TrackingState::NotInitialized) {
-    if (initialize(frame, false)) {
+    // A map started on a blurred image would have a blurred first keyframe: wait for a sharp one.
+    if (!result.blurred && initialize(frame, false)) {
       result.tracked = true;
       result.new_keyframe = last_kf_;
     }
@@ -122,7 +123,7 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
   gap_frames_ = 0;
   ++lost_frames_;
   temporal_points_.clear();
-  if (lost_frames_ > cfg_.tracking.relocalization_attempts && canInitialize(frame)) {
+  if (lost_frames_ > cfg_.tracking.relocalization_attempts && !result.blurred && canInitialize(frame)) {
     // Relocalisation keeps failing on a frame good enough to start a map: start a new map segment
     // where the camera was last seen. (On frames too poor to start one - the camera covered, no
     // depth - the old map is kept for relocalisation.)
