@@ -1,5 +1,6 @@
 // Benchmarks of the per-frame hot path on real fr1_xyz images: ORB extraction (640x480, 1000
-// features, 8 levels), frame feature construction, and descriptor matching between two frames.
+// features, 8 levels), frame feature construction, the blur measure, and descriptor matching
+// between two frames.
 // Run: build/bin/tkgslam_bench   (needs ../shared next to the repository)
 #include <filesystem>
 
@@ -7,6 +8,7 @@
 
 #include "tkgslam/data/Frame.h"
 #include "tkgslam/data/FrameFeatures.h"
+#include "tkgslam/feature/ImageSharpness.h"
 #include "tkgslam/io/ConfigFile.h"
 #include "tkgslam/io/TumDataset.h"
 #include "tkgslam/match/OrbMatcher.h"
@@ -57,6 +59,13 @@ void BM_FrameFeatures(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_FrameFeatures)->Unit(benchmark::kMillisecond);
+
+void BM_ImageSharpness(benchmark::State& state) {
+  auto& f = fixture();
+  if (!f.ok) return state.SkipWithError("../shared/datasets/rgbd_dataset_freiburg1_xyz not found");
+  for (auto _ : state) benchmark::DoNotOptimize(feature::imageSharpness(f.a.gray));
+}
+BENCHMARK(BM_ImageSharpness)->Unit(benchmark::kMillisecond);
 
 void BM_DescriptorMatching(benchmark::State& state) {
   auto& f = fixture();
