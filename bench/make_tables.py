@@ -58,7 +58,8 @@ print("Composites: real people (cut out of real photos) walking their own 3-D pa
       "poses 15 frames late); TKGt = lookahead with tiled detector runs (every 2nd frame detected, 4 frames "
       "tiled 2x2 at half size into one run, still one run per 8 frames; poses 15 frames late). "
       "Every mode bridges up to 3 untrackable frames with the motion model (counted as tracked, in "
-      "brackets below) and re-anchors a new map segment to the previous one when it sees the same scene.")
+      "brackets below; motion-blurred frames up to 9, and they make no keyframes) and re-anchors a new map "
+      "segment to the previous one when it sees the same scene.")
 table("ATE RMSE / S.D. (m)  — cf. the paper's Table 1 and 3",
       lambda ev, t, d, r: f"{fmt(stat(ev, 'ate_m', 'rmse'))} / {fmt(stat(ev, 'ate_m', 'std'))}")
 table("RPE translation RMSE / S.D. (m, 1 s) — cf. Table 2",
