@@ -83,12 +83,17 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
       result.inliers = matches_inliers_;
       return result;
     }
-    // After bridged frames the step spans several frames; the previous velocity stays.
+    // After bridged frames the step spans several frames; the previous velocity stays (if there
+    // was one: a gap right after a map start or relocalisation leaves none).
     if (gap_frames_ == 0) velocity_ = orthonormalized(frame.T_cw * last_frame_->T_cw.inverse());
+    has_velocity_ = !after_loss && (gap_frames_ == 0 || has_velocity_);
     gap_frames_ = 0;
     predicted_frames_ = 0;
-    has_velocity_ = !after_loss;
-    if (needNewKeyFrame(frame, mapper_idle, mapper_queue)) result.new_keyframe = createKeyFrame(frame);
+    // (A blurred frame gets here after a long run of them: it becomes the frame to match against,
+    // but still no keyframe.)
+    if (!result.blurred && needNewKeyFrame(frame, mapper_idle, mapper_queue)) {
+      result.new_keyframe = createKeyFrame(frame);
+    }
     if (result.new_keyframe && !anchor_candidates_.empty()) result.reanchored = reanchorSegment(frame);
     for (int i = 0; i < frame.size(); ++i) {
       if (frame.outlier[i]) frame.map_points[i].reset();
