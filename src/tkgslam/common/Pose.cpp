@@ -33,6 +33,21 @@ Pose applyIncrement(const Pose& T, const Eigen::Matrix<double, 6, 1>& delta) {
   return orthonormalized(D * T);
 }
 
+Pose poseRoot(const Pose& T, int n) {
+  if (n <= 1) return T;
+  const Eigen::AngleAxisd aa(T.linear());
+  Pose S = Pose::Identity();
+  S.linear() = Eigen::AngleAxisd(aa.angle() / n, aa.axis()).toRotationMatrix();
+  // n steps translate by (I + R + ... + R^(n-1)) t; invert that sum (well conditioned for angles < pi).
+  Mat3 sum = Mat3::Zero(), Rk = Mat3::Identity();
+  for (int k = 0; k < n; ++k) {
+    sum += Rk;
+    Rk = S.linear() * Rk;
+  }
+  S.translation() = sum.partialPivLu().solve(T.translation());
+  return S;
+}
+
 double rotationAngle(const Mat3& R) {
   const double c = std::clamp((R.trace() - 1.0) / 2.0, -1.0, 1.0);
   return std::acos(c);

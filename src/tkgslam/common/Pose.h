@@ -31,6 +31,10 @@ Pose orthonormalized(const Pose& T);
 /// SE(3) increment: left-multiplies a pose by exp of a 6-vector [rotation (rad); translation (m)].
 Pose applyIncrement(const Pose& T, const Eigen::Matrix<double, 6, 1>& delta);
 
+/// The constant step S with S^n = T (n >= 1): rotation by 1/n of T's angle about T's axis, and the
+/// translation that n such steps add up to T's. E.g. the per-frame velocity over an n-frame gap.
+Pose poseRoot(const Pose& T, int n);
+
 /// Rotation angle of a rotation matrix in radians, in [0, pi].
 double rotationAngle(const Mat3& R);
 

@@ -83,10 +83,9 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
       result.inliers = matches_inliers_;
       return result;
     }
-    // After bridged frames the step spans several frames; the previous velocity stays (if there
-    // was one: a gap right after a map start or relocalisation leaves none).
-    if (gap_frames_ == 0) velocity_ = orthonormalized(frame.T_cw * last_frame_->T_cw.inverse());
-    has_velocity_ = !after_loss && (gap_frames_ == 0 || has_velocity_);
+    // After bridged frames the step spans several frames: the velocity is its per-frame share.
+    velocity_ = orthonormalized(poseRoot(frame.T_cw * last_frame_->T_cw.inverse(), gap_frames_ + 1));
+    has_velocity_ = !after_loss;
     gap_frames_ = 0;
     predicted_frames_ = 0;
     // (A blurred frame gets here after a long run of them: it becomes the frame to match against,
