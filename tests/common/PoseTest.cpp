@@ -44,6 +44,24 @@ TEST(Pose, IncrementIsALeftPerturbationAndStaysOrthonormal) {
   EXPECT_NEAR(rotationAngle(U.linear()), M_PI / 2, 1e-12);
 }
 
+TEST(Pose, RootIsTheConstantStepThatComposesToThePose) {
+  Pose S = Pose::Identity();
+  S.linear() = Eigen::AngleAxisd(0.05, Vec3(1, 2, -1).normalized()).toRotationMatrix();
+  S.translation() = Vec3(0.01, -0.02, 0.004);
+  for (int n : {1, 2, 4, 10}) {
+    Pose T = Pose::Identity();
+    for (int k = 0; k < n; ++k) T = S * T;
+    const Pose R = poseRoot(T, n);
+    EXPECT_TRUE(R.linear().isApprox(S.linear(), 1e-10)) << n;
+    EXPECT_TRUE(R.translation().isApprox(S.translation(), 1e-10)) << n;
+  }
+  // No rotation: the translation splits evenly.
+  Pose T = Pose::Identity();
+  T.translation() = Vec3(0.3, 0, -0.6);
+  EXPECT_TRUE(poseRoot(T, 3).translation().isApprox(Vec3(0.1, 0, -0.2), 1e-12));
+  EXPECT_TRUE(poseRoot(T, 3).linear().isIdentity(1e-12));
+}
+
 TEST(Pose, TrajectoryEntryPoseIsCameraToWorld) {
   io::TrajectoryEntry e;
   e.t = Vec3(1, 2, 3);
