@@ -3,8 +3,11 @@
 # fr1_xyz sequence, every ablation mode on each and on the static original, tables like the
 # paper's Tables 1-4 in OUT/tables.md.
 #   bench/dynamic_benchmark.sh [OUT]        env: FRAMES (default 300), MODES, SEQ, ONLY (sequence names to
-#                                           (re)run, e.g. "static high"; default all)
-# Every run uses --deterministic, so one run per cell is the median of any number of runs.
+#                                           (re)run, e.g. "static high"; default all), SEEDS, SEEDED
+# Every run uses --deterministic, so one run per cell is the median of any number of runs. What a
+# single composite cannot show is how much a difference between modes depends on where the people
+# happen to walk: SEEDS="22 32" adds replicas of the SEEDED composites (default "high very_high")
+# built with those seeds (named e.g. high_s22), and the tables get their mean and spread.
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BIN="$ROOT/build/bin/tkgslam"
@@ -27,6 +30,12 @@ COMPOSITES=(
   "high_shake|--count 3 --min-size 0.6 --max-size 0.95 --speed 0.4 --blur 0.3 --seed 13"
   "extreme|--count 4 --min-size 0.8 --max-size 1.1 --speed 0.4 --seed 12"
 )
+SEEDED=${SEEDED:-"high very_high"}
+for c in "${COMPOSITES[@]}"; do
+  name=${c%%|*}; opts=${c#*|}
+  [[ " $SEEDED " == *" $name "* ]] || continue
+  for seed in ${SEEDS:-}; do COMPOSITES+=("${name}_s$seed|${opts% --seed *} --seed $seed"); done
+done
 for c in "${COMPOSITES[@]}"; do
   name=${c%%|*}; opts=${c#*|}
   if [ ! -f "$OUT/seq_$name/rgb.txt" ]; then
