@@ -89,6 +89,12 @@ def seed_spread():
             cells.append(f"{statistics.mean(values):.4f} ± {statistics.stdev(values):.4f}"
                          + ("" if m == "T" else f" ({wins}/{len(names)})"))
         print(f"| {base} | {', '.join(f'{n} ({coverage(n)})' for n in names)} | " + " | ".join(cells) + " |")
+    print("\nTracked frames on the worst of those composites (%):\n")
+    print("| sequence | " + " | ".join(modes) + " |")
+    print("|---" * (len(modes) + 1) + "|")
+    for base, names in groups.items():
+        worst = [[tracked(cell(n, m)[0]) for n in names] for m in modes]
+        print(f"| {base} | " + " | ".join("—" if None in w else fmt(min(w), 1) for w in worst) + " |")
 
 
 print(f"# Dynamic benchmark ({frames} frames per sequence, deterministic runs)\n")
