@@ -63,7 +63,7 @@ def seed_spread():
     """Replicas of a composite built with other seeds (bench/dynamic_benchmark.sh SEEDS=...)."""
     runs = os.path.join(out, "runs")
     groups = {}
-    for name in sorted(os.listdir(runs)):
+    for name in sorted(os.listdir(runs)) if os.path.isdir(runs) else []:
         m = re.fullmatch(r"(.+)_s\d+", name)
         if m and m.group(1) in seqs:
             groups.setdefault(m.group(1), [m.group(1)]).append(name)
