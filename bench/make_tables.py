@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
 """Turns the runs of bench/dynamic_benchmark.sh into Markdown tables (standard library only)."""
+import functools
 import json
 import os
 import re
@@ -19,6 +20,7 @@ def load(path):
         return None
 
 
+@functools.lru_cache(maxsize=None)  # the tables read the same runs several times
 def cell(seq, mode):
     d = os.path.join(out, "runs", seq, mode)
     return load(os.path.join(d, "eval.json")) or {}, load(os.path.join(d, "timing.json")) or {}, \
@@ -79,13 +81,14 @@ def seed_spread():
     def ate(name, mode):
         return stat(cell(name, mode)[0], "ate_m", "rmse")
     for base, names in groups.items():
+        t_values = [ate(n, "T") for n in names]
         cells = []
         for m in modes:
             values = [ate(n, m) for n in names]
             if any(v is None for v in values):
                 cells.append("—")
                 continue
-            wins = sum(v < t for v, t in zip(values, (ate(n, "T") for n in names)) if t is not None)
+            wins = sum(t is not None and v < t for v, t in zip(values, t_values))
             cells.append(f"{statistics.mean(values):.4f} ± {statistics.stdev(values):.4f}"
                          + ("" if m == "T" else f" ({wins}/{len(names)})"))
         print(f"| {base} | {', '.join(f'{n} ({coverage(n)})' for n in names)} | " + " | ".join(cells) + " |")
