@@ -1,6 +1,7 @@
 // A short composite of real people walking through the real fr1_xyz sequence: the people must
 // really hurt the ORB-SLAM2-style baseline, and TKG must stay close to the static original.
 #include <fstream>
+#include <regex>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -112,6 +113,11 @@ TEST(CompositeSequence, SameSeedSameSequence) {
     EXPECT_EQ(test::readFile(e.path()), test::readFile(tmp / "b" / "rgb" / e.path().filename())) << e.path();
   }
   EXPECT_GT(test::readFile(tmp / "a" / "boxes.txt").size(), 100u);
+  // Which photo each person came from (the benchmark's per-person detector table shows it).
+  EXPECT_TRUE(std::regex_search(out, std::regex("person 0: cut-out [0-9]+ of [0-9]+, from [^ ]+\\.(jpg|png)\n")))
+      << out;
+  EXPECT_NE(out.find("person 1: "), std::string::npos) << out;
+  EXPECT_EQ(out.find("person 2: "), std::string::npos) << out;  // --count 2
 }
 
 /// Variance of the Laplacian over a mask: how sharp that part of the image is.

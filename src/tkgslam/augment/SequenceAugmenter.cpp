@@ -60,10 +60,13 @@ AugmentStats augmentSequence(const io::TumDataset& ds, const std::vector<io::Tra
   const double t0 = ds.timestamp(0);
   const Pose T_w_c0 = gtPose(t0);
 
+  AugmentStats stats;
   std::vector<Walker> walkers;
   for (int k = 0; k < o.people; ++k) {
     Walker w;
-    w.cutout = &cutouts[size_t(U(rng) * cutouts.size()) % cutouts.size()];
+    const size_t which = size_t(U(rng) * cutouts.size()) % cutouts.size();
+    w.cutout = &cutouts[which];
+    stats.people.emplace_back(int(which), w.cutout->source);
     const double z = 0.4 + 0.2 * U(rng);  // in front of the desk the camera looks at
     const double size = o.min_size + (o.max_size - o.min_size) * U(rng);
     w.height_m = size * cam.height() * z / cam.fy();
@@ -86,7 +89,6 @@ AugmentStats augmentSequence(const io::TumDataset& ds, const std::vector<io::Tra
   rgb_list << "# color images (tkgslam augment, seed " << o.seed << ")\n# timestamp filename\n";
   depth_list << "# depth maps (tkgslam augment)\n# timestamp filename\n";
   boxes << "# timestamp person x y w h (raw pixels; ground truth of the composited people)\n";
-  AugmentStats stats;
   for (int i = 0; i < n; ++i) {
     auto frame = ds.load(i);
     cv::Mat bgr = frame.bgr.clone();
