@@ -111,7 +111,6 @@ def seed_spread():
         print(f"| {base} | " + " | ".join("—" if None in w else fmt(min(w), 1) for w in worst) + " |")
 
 
-
 def iou(a, b):
     ix = max(0.0, min(a[0] + a[2], b[0] + b[2]) - max(a[0], b[0]))
     iy = max(0.0, min(a[1] + a[3], b[1] + b[3]) - max(a[1], b[1]))
@@ -161,7 +160,7 @@ def detector_misses():
     print("\n### Detector misses per composited person\n")
     print("YOLOv5n on every frame (the detections of T/TK/TG/TKG), against the truth box of each person in "
           "frames where it covers at least 5 % of the image: found = a detected box with IoU >= 0.5. "
-          "The Kalman filter keeps a missed box for `max_age` (3) frames; longer runs of misses are "
+          "The Kalman filter keeps a missed box for `dynamic.max_age` frames (3 in the configs); longer runs of misses are "
           "left to the geometry check or not handled. The person in `fr3_walking_xyz_1341846316.570121.png` "
           "is blacked out in that photo (anonymised): its cut-out is a solid black silhouette, which "
           "YOLOv5n finds less often than the textured people.\n")
@@ -169,6 +168,7 @@ def detector_misses():
           "longest run of misses (frames) |")
     print("|---|---|---|---|---|---|")
     print("\n".join(rows))
+
 
 print(f"# Dynamic benchmark ({frames} frames per sequence, deterministic runs)\n")
 print("Composites: real people (cut out of real photos) walking their own 3-D paths through the real "
