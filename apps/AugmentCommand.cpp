@@ -33,9 +33,10 @@ int runAugment(const AugmentCliOptions& o) {
               "T >= 0.7 on %d frames, %d blurred frames\n",
               s.frames, o.out.c_str(), 100 * s.mean_coverage, 100 * s.max_coverage, s.mean_box_ratio,
               s.frames_ratio_over_07, s.blurred);
-  for (size_t k = 0; k < s.people.size(); ++k) {
-    std::printf("person %zu: cut-out %d of %zu, from %s\n", k, s.people[k].first + 1, cutouts.size(),
-                s.people[k].second.c_str());
+  for (size_t k = 0; k < s.person_cutouts.size(); ++k) {
+    const int c = s.person_cutouts[k];
+    std::printf("person %zu: cut-out %d of %zu, from %s\n", k, c + 1, cutouts.size(),
+                cutouts[size_t(c)].source.c_str());
   }
   return 0;
 }

@@ -72,14 +72,20 @@ def cut_out(name, person):
     return f"{m.group(2)} #{m.group(1)}" if m else "?"
 
 
+def composite_of(name):
+    """A seed replica's composite ("high_s22" -> "high"); other names are their own."""
+    m = re.fullmatch(r"(.+)_s\d+", name)
+    return m.group(1) if m and m.group(1) in seqs else name
+
+
 def seed_spread():
     """Replicas of a composite built with other seeds (bench/dynamic_benchmark.sh SEEDS=...)."""
     runs = os.path.join(out, "runs")
     groups = {}
     for name in sorted(os.listdir(runs)) if os.path.isdir(runs) else []:
-        m = re.fullmatch(r"(.+)_s\d+", name)
-        if m and m.group(1) in seqs:
-            groups.setdefault(m.group(1), [m.group(1)]).append(name)
+        base = composite_of(name)
+        if base != name:
+            groups.setdefault(base, [base]).append(name)
     if not groups:
         return
     print("\n### Across composite seeds: ATE RMSE mean ± S.D. (m); in brackets on how many composites the "
@@ -118,13 +124,44 @@ def iou(a, b):
     return inter / (a[2] * a[3] + b[2] * b[3] - inter) if inter > 0 else 0.0
 
 
+def read_truth_boxes(path):
+    """boxes.txt of a composite: rounded timestamp -> [(person, (x, y, w, h))]."""
+    truth = {}
+    with open(path) as f:
+        for line in f:
+            if line.startswith("#"):
+                continue
+            t, k, x, y, w, h = line.split()
+            truth.setdefault(round(float(t), 4), []).append((int(k), (float(x), float(y), float(w), float(h))))
+    return truth
+
+
+def person_detections(truth, jsonl):
+    """Per person: frames in view, frames found, longest run of misses."""
+    stats = {}  # person -> [seen, found, current run of misses, longest run]
+    with open(jsonl) as f:
+        for line in f:
+            fr = json.loads(line)
+            detected = [(b["x"], b["y"], b["w"], b["h"]) for b in fr["boxes"] if not b["predicted"]]
+            for k, box in truth.get(round(fr["timestamp"], 4), []):
+                if box[2] * box[3] < 0.05 * 640 * 480:  # fr1 frames; smaller people hardly matter
+                    continue
+                hit = any(iou(box, d) >= 0.5 for d in detected)
+                s = stats.setdefault(k, [0, 0, 0, 0])
+                s[0] += 1
+                s[1] += hit
+                s[2] = 0 if hit else s[2] + 1
+                s[3] = max(s[3], s[2])
+    return stats
+
+
 def detector_misses():
     """Per composited person: how often YOLO (run on every frame, as in T/TK/TG/TKG) finds it, and the
     longest run of frames it is missed - the gaps the Kalman filter is meant to bridge."""
     runs = os.path.join(out, "runs")
     names = [n for n in sorted(os.listdir(runs)) if n != "static"] if os.path.isdir(runs) else []
-    base = lambda n: re.sub(r"_s\d+$", "", n)  # noqa: E731 - seed replicas after their composite
-    names.sort(key=lambda n: (seqs.index(base(n)) if base(n) in seqs else len(seqs), n))
+    # Seed replicas right after their composite.
+    names.sort(key=lambda n: (seqs.index(composite_of(n)) if composite_of(n) in seqs else len(seqs), n))
     rows = []
     for name in names:
         jsonl = next((os.path.join(runs, name, m, "dynamic.jsonl") for m in ("TKG", "T", "TK", "TG")
@@ -132,36 +169,15 @@ def detector_misses():
         truth_path = os.path.join(out, f"seq_{name}", "boxes.txt")
         if not jsonl or not os.path.isfile(truth_path):
             continue
-        truth = {}
-        with open(truth_path) as f:
-            for line in f:
-                if line.startswith("#"):
-                    continue
-                t, k, x, y, w, h = line.split()
-                truth.setdefault(round(float(t), 4), []).append((int(k), (float(x), float(y), float(w), float(h))))
-        found, seen, run, longest = {}, {}, {}, {}
-        with open(jsonl) as f:
-            for line in f:
-                fr = json.loads(line)
-                detected = [(b["x"], b["y"], b["w"], b["h"]) for b in fr["boxes"] if not b["predicted"]]
-                for k, box in truth.get(round(fr["timestamp"], 4), []):
-                    if box[2] * box[3] < 0.05 * 640 * 480:  # fr1 frames; smaller people hardly matter
-                        continue
-                    hit = any(iou(box, d) >= 0.5 for d in detected)
-                    seen[k] = seen.get(k, 0) + 1
-                    found[k] = found.get(k, 0) + hit
-                    run[k] = 0 if hit else run.get(k, 0) + 1
-                    longest[k] = max(longest.get(k, 0), run[k])
-        for k in sorted(seen):
-            rows.append(f"| {name} | {k} | {cut_out(name, k)} | {seen[k]} | {100.0 * found[k] / seen[k]:.0f} | "
-                        f"{longest[k]} |")
+        for k, (seen, found, _, longest) in sorted(person_detections(read_truth_boxes(truth_path), jsonl).items()):
+            rows.append(f"| {name} | {k} | {cut_out(name, k)} | {seen} | {100.0 * found / seen:.0f} | {longest} |")
     if not rows:
         return
     print("\n### Detector misses per composited person\n")
     print("YOLOv5n on every frame (the detections of T/TK/TG/TKG), against the truth box of each person in "
           "frames where it covers at least 5 % of the image: found = a detected box with IoU >= 0.5. "
-          "The Kalman filter keeps a missed box for `dynamic.max_age` frames (3 in the configs); longer runs of misses are "
-          "left to the geometry check or not handled. The person in `fr3_walking_xyz_1341846316.570121.png` "
+          "The Kalman filter keeps a missed box for `dynamic.max_age` frames (3 in the configs); longer "
+          "runs of misses are left to the geometry check or not handled. The person in `fr3_walking_xyz_1341846316.570121.png` "
           "is blacked out in that photo (anonymised): its cut-out is a solid black silhouette, which "
           "YOLOv5n finds less often than the textured people.\n")
     print("| composite | person | cut out of (photo #cut-out) | frames in view | found (%) | "

@@ -66,7 +66,7 @@ AugmentStats augmentSequence(const io::TumDataset& ds, const std::vector<io::Tra
     Walker w;
     const size_t which = size_t(U(rng) * cutouts.size()) % cutouts.size();
     w.cutout = &cutouts[which];
-    stats.people.emplace_back(int(which), w.cutout->source);
+    stats.person_cutouts.push_back(int(which));
     const double z = 0.4 + 0.2 * U(rng);  // in front of the desk the camera looks at
     const double size = o.min_size + (o.max_size - o.min_size) * U(rng);
     w.height_m = size * cam.height() * z / cam.fy();

@@ -9,7 +9,6 @@
 // masks/ (255 = dynamic pixel) and boxes.txt ("timestamp person x y w h", raw pixels).
 #include <cstdint>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "tkgslam/augment/PersonCutout.h"
@@ -41,8 +40,8 @@ struct AugmentStats {
   double mean_box_ratio = 0;  ///< union of the person boxes / image
   int frames_ratio_over_07 = 0;
   int blurred = 0;
-  /// Per person id (as in boxes.txt): which cut-out it is (index into the cut-outs) and its photo.
-  std::vector<std::pair<int, std::string>> people;
+  /// Per person id (as in boxes.txt): the index of its cut-out in the cut-outs passed in.
+  std::vector<int> person_cutouts;
 };
 
 /// Writes the composite sequence to `out_dir`. Throws InputError on I/O problems.
