@@ -30,7 +30,7 @@ struct RunOptions {
   int max_frames = 0;
   int loops = 1;
   int detect_every = 0, detector_latency = -1, opencv_threads = -1;  // < default: keep the config's
-  std::string box_flow;                                              // empty: keep the config's
+  std::string box_flow, unboxed_check;                               // empty: keep the config's
   bool lookahead = false;
   int detector_tiles = 0;  // 0: keep the config's
 };
@@ -50,8 +50,9 @@ void writeDynamicDebug(const std::string& path, const std::vector<DynamicFrameIn
   if (!out) throw InputError(fmt::format("cannot write '{}'", path));
   for (const auto& f : info) {
     out << fmt::format("{{\"timestamp\": {:.6f}, \"T\": {:.4f}, \"geometry\": {}, \"keypoints\": {}, \"dropped\": {}, "
-                       "\"readmitted\": {}, \"boxes\": [",
-                       f.timestamp, f.box_ratio, f.geometry ? "true" : "false", f.keypoints, f.dropped, f.readmitted);
+                       "\"readmitted\": {}, \"unboxed\": {}, \"boxes\": [",
+                       f.timestamp, f.box_ratio, f.geometry ? "true" : "false", f.keypoints, f.dropped, f.readmitted,
+                       f.unboxed);
     for (size_t i = 0; i < f.boxes.size(); ++i) {
       const auto& b = f.boxes[i];
       out << fmt::format("{}{{\"x\": {:.1f}, \"y\": {:.1f}, \"w\": {:.1f}, \"h\": {:.1f}, \"class\": {}, "
@@ -78,6 +79,7 @@ int runSlam(const RunOptions& o) {
   if (o.detector_latency >= 0) config.dynamic.detector_latency = o.detector_latency;
   if (o.opencv_threads >= 0) config.opencv_threads = o.opencv_threads;
   if (!o.box_flow.empty()) config.dynamic.box_flow = o.box_flow;
+  if (!o.unboxed_check.empty()) config.dynamic.geometry.unboxed_check = o.unboxed_check == "on";
   if (o.lookahead) config.dynamic.lookahead = true;
   if (o.detector_tiles > 0) config.dynamic.detector_tiles = o.detector_tiles;
   if (config.dynamic.detector_tiles > 1 && !config.dynamic.lookahead) {
@@ -260,6 +262,9 @@ Action addRunCommand(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--box-flow", o->box_flow, "Move boxes by optical flow between detections: auto, on, off")
       ->check(CLI::IsMember({"auto", "on", "off"}));
+  cmd->add_option("--unboxed-check", o->unboxed_check,
+                  "G modes: also look for movers outside the boxes on every frame (on; off = the paper's TG/TKG)")
+      ->check(CLI::IsMember({"on", "off"}));
   cmd->add_flag("--lookahead", o->lookahead,
                 "Hold frames back until the next detection (boxes interpolated; poses N + L - 1 frames late)");
   cmd->add_option("--detector-tiles", o->detector_tiles,

@@ -106,6 +106,55 @@ TEST(DynamicFilter, ObjectInFrontOfASeenWallLosesOnlyItsOwnPoints) {
   EXPECT_EQ(wall_excluded, 0);
 }
 
+TEST(DynamicFilter, UnboxedMoverInFrontOfASeenWallIsFound) {
+  Scene s;
+  auto ref = gridFeatures(s.wall, s.cam);  // the reference saw the bare wall
+  cv::Mat depth = s.wall.clone();
+  const cv::Rect person(120, 40, 80, 180);
+  depth(person).setTo(1.5f);  // a person the detector missed, 1.5 m away
+  auto cur = gridFeatures(depth, s.cam);
+  const auto g = dynamic::findUnboxedMovers(s.T_cur, depth, cv::Mat(), {{s.T_ref, ref}}, s.cam, {});
+  EXPECT_GT(g.evidence, 50);
+  EXPECT_GT(dynamic::excludeKeypointsInMask(*cur, g.dynamic_region), 150);
+  const cv::Rect inner(person.x + 4, person.y + 4, person.width - 8, person.height - 8);
+  int on_person = 0;
+  for (int i = 0; i < cur->size(); ++i) on_person += inner.contains(cv::Point(cur->raw[i].pt));
+  EXPECT_EQ(countExcluded(*cur, inner), on_person);
+  const cv::Rect grown(person.x - 6, person.y - 6, person.width + 12, person.height + 12);
+  EXPECT_EQ(countExcluded(*cur, cv::Rect(0, 0, 320, 240)), countExcluded(*cur, grown));  // the wall is kept
+}
+
+TEST(DynamicFilter, UnboxedCheckLeavesAStaticObjectSeenByBothViews) {
+  // A static box 1.5 m away in front of the wall, in both views. The camera moved 10 cm: the box
+  // shifts 20 px, the wall 10 px, so a strip of wall the reference saw is now hidden behind the
+  // box (real occlusion by static structure) - but most of what the reference saw of the box
+  // itself is found in place, so the box is not a mover.
+  Scene s;
+  const cv::Rect box_ref(140, 60, 80, 120);
+  cv::Mat depth_ref = s.wall.clone(), depth_cur = s.wall.clone();
+  depth_ref(box_ref).setTo(1.5f);
+  depth_cur(box_ref - cv::Point(20, 0)).setTo(1.5f);  // u_cur = u_ref - fx * 0.1 m / z
+  auto ref = gridFeatures(depth_ref, s.cam);
+  auto cur = gridFeatures(depth_cur, s.cam);
+  const auto g = dynamic::findUnboxedMovers(s.T_cur, depth_cur, cv::Mat(), {{s.T_ref, ref}}, s.cam, {});
+  EXPECT_GT(g.evidence, 0);  // the hidden strip
+  EXPECT_EQ(cv::countNonZero(g.dynamic_region), 0);
+  EXPECT_EQ(dynamic::excludeKeypointsInMask(*cur, g.dynamic_region), 0);
+}
+
+TEST(DynamicFilter, UnboxedCheckOnlyLooksOutsideTheBoxes) {
+  Scene s;
+  auto ref = gridFeatures(s.wall, s.cam);
+  cv::Mat depth = s.wall.clone();
+  depth(cv::Rect(120, 40, 80, 180)).setTo(1.5f);
+  std::vector<dynamic::Detection> boxes(1);
+  boxes[0].box = cv::Rect2f(110, 30, 100, 200);  // the detector found this one
+  const auto mask = dynamic::rasterizeBoxes(boxes, depth.size());
+  const auto g = dynamic::findUnboxedMovers(s.T_cur, depth, mask.mask, {{s.T_ref, ref}}, s.cam, {});
+  EXPECT_EQ(g.evidence, 0);
+  EXPECT_EQ(cv::countNonZero(g.dynamic_region), 0);
+}
+
 TEST(DynamicFilter, ReferenceSelectionPrefersNearbyViews) {
   Pose cur = Pose::Identity();
   std::vector<Pose> cands(4, Pose::Identity());

@@ -74,6 +74,10 @@ TEST(ConfigFile, InvalidValuesAreClearErrors) {
   EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {box_flow: sometimes}").find("dynamic.box_flow must be auto, on or off"),
             std::string::npos);
   EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {centre_gate: -1}").find("centre_gate"), std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {unboxed_min_evidence: 0}").find("unboxed_min_evidence must be >= 1"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {unboxed_min_hidden: 1.5}").find("unboxed_min_hidden must be in [0, 1]"),
+            std::string::npos);
   EXPECT_NE(errorOf(std::string(kMinimal) + "tracking: {max_predicted_frames: -1}").find("max_predicted_frames must be in [0, 30]"),
             std::string::npos);
   EXPECT_NE(errorOf(std::string(kMinimal) + "tracking: {blur_ratio: 1.5}").find("blur_ratio must be in [0, 1)"),

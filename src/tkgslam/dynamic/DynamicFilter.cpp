@@ -34,7 +34,7 @@ BoxMask rasterizeBoxes(const std::vector<Detection>& boxes, cv::Size image, doub
 int excludeKeypointsInMask(data::FrameFeatures& f, const cv::Mat& mask) {
   int n = 0;
   for (int i = 0; i < f.size(); ++i) {
-    if (inMask(mask, f.raw[i].pt)) {
+    if (!f.excluded[i] && inMask(mask, f.raw[i].pt)) {
       f.excluded[i] = 1;
       ++n;
     }
@@ -71,11 +71,16 @@ std::vector<int> selectReferenceViews(const Pose& T_cw, const std::vector<Pose>&
   return order;
 }
 
-GeometryResult checkMultiViewGeometry(const Pose& T_cw, const cv::Mat& depth_m, const cv::Mat& box_mask,
-                                      const std::vector<ReferenceView>& refs, const camera::PinholeCamera& cam,
-                                      const GeometryParams& p) {
-  GeometryResult result;
-  result.dynamic_region = cv::Mat::zeros(depth_m.size(), CV_8U);
+namespace {
+/// Reference keypoints (world points seen by the reference keyframes) that project into `region`
+/// of the current frame and are hidden there behind nearer structure: each one is evidence of
+/// something that moved in front of the static scene. Returns the evidence pixels, moved to the
+/// nearest surface in the patch (the occluder, where a region is grown from). `consistent`, if
+/// given, receives the pixels of the reference points found where they were (not hidden).
+std::vector<cv::Point> findOcclusionEvidence(const Pose& T_cw, const cv::Mat& depth_m, const cv::Mat& region,
+                                             const std::vector<ReferenceView>& refs, const camera::PinholeCamera& cam,
+                                             const GeometryParams& p, int& projected,
+                                             std::vector<cv::Point>* consistent = nullptr) {
   const Vec3 c_cur = T_cw.inverse().translation();
   const double cos_max = std::cos(p.max_parallax_deg * M_PI / 180.0);
   std::vector<cv::Point> seeds;
@@ -95,8 +100,8 @@ GeometryResult checkMultiViewGeometry(const Pose& T_cw, const cv::Mat& depth_m, 
       const Vec2 raw = cam.distort(cam.project(pc));
       const int u = int(std::lround(raw.x())), v = int(std::lround(raw.y()));
       if (u < 0 || v < 0 || u >= depth_m.cols || v >= depth_m.rows) continue;
-      if (!box_mask.at<uchar>(v, u)) continue;  // only the boxes are in question
-      ++result.projected;
+      if (!region.at<uchar>(v, u)) continue;  // only the region is in question
+      ++projected;
       // z' = the valid depth in (0, z_proj) closest to z_proj within the patch.
       double z_best = 0, sum = 0, sum_sq = 0;
       int count = 0;
@@ -115,40 +120,118 @@ GeometryResult checkMultiViewGeometry(const Pose& T_cw, const cv::Mat& depth_m, 
           if (z < z_proj && z > z_best) z_best = z;
         }
       }
-      if (z_best <= 0 || z_proj - z_best <= p.occlusion_threshold) continue;
+      if (z_best <= 0 || z_proj - z_best <= p.occlusion_threshold) {
+        if (consistent && count > 0) consistent->emplace_back(u, v);
+        continue;
+      }
       const double mean = sum / count;
       const double var = std::max(0.0, sum_sq / count - mean * mean);
       if (std::sqrt(var) > p.max_patch_std) continue;  // complex occlusion at an edge: static
-      ++result.evidence;
-      seeds.emplace_back(u, v);
+      // Seed at the nearest surface in the patch (the occluder), not at a background pixel.
+      cv::Point best(u, v);
+      float z_min = std::numeric_limits<float>::max();
+      for (int dv = -p.patch_radius; dv <= p.patch_radius; ++dv) {
+        for (int du = -p.patch_radius; du <= p.patch_radius; ++du) {
+          const cv::Point q(u + du, v + dv);
+          if (q.x < 0 || q.y < 0 || q.x >= depth_m.cols || q.y >= depth_m.rows || !region.at<uchar>(q)) continue;
+          const float z = depth_m.at<float>(q);
+          if (z > 0 && z < z_min) z_min = z, best = q;
+        }
+      }
+      if (z_min < std::numeric_limits<float>::max()) seeds.push_back(best);
     }
   }
+  return seeds;
+}
+
+/// floodFill's mask: 0 inside `region` (where growing may go), 1 elsewhere, with the 1-pixel border.
+cv::Mat floodBarrier(const cv::Mat& region) {
+  cv::Mat flood_mask(region.rows + 2, region.cols + 2, CV_8U, cv::Scalar(1));
+  flood_mask(cv::Rect(1, 1, region.cols, region.rows)).setTo(0, region);
+  return flood_mask;
+}
+}  // namespace
+
+GeometryResult checkMultiViewGeometry(const Pose& T_cw, const cv::Mat& depth_m, const cv::Mat& box_mask,
+                                      const std::vector<ReferenceView>& refs, const camera::PinholeCamera& cam,
+                                      const GeometryParams& p) {
+  GeometryResult result;
+  result.dynamic_region = cv::Mat::zeros(depth_m.size(), CV_8U);
+  const auto seeds = findOcclusionEvidence(T_cw, depth_m, box_mask, refs, cam, p, result.projected);
+  result.evidence = int(seeds.size());
   if (seeds.empty()) return result;
   // Grow depth-consistent regions from the evidence, confined to the boxes.
-  cv::Mat flood_mask(depth_m.rows + 2, depth_m.cols + 2, CV_8U, cv::Scalar(1));
-  flood_mask(cv::Rect(1, 1, depth_m.cols, depth_m.rows)).setTo(0, box_mask);
+  cv::Mat flood_mask = floodBarrier(box_mask);
   const int flags = 4 | cv::FLOODFILL_MASK_ONLY | (255 << 8);
   cv::Mat depth = depth_m.clone();  // floodFill requires a writable image even in mask-only mode
   for (const auto& s : seeds) {
-    // Seed at the nearest surface in the patch (the occluder), not at a background pixel.
-    cv::Point best = s;
-    float z_min = std::numeric_limits<float>::max();
-    for (int dv = -p.patch_radius; dv <= p.patch_radius; ++dv) {
-      for (int du = -p.patch_radius; du <= p.patch_radius; ++du) {
-        const cv::Point q(s.x + du, s.y + dv);
-        if (q.x < 0 || q.y < 0 || q.x >= depth.cols || q.y >= depth.rows) continue;
-        const float z = depth.at<float>(q);
-        if (z > 0 && z < z_min && box_mask.at<uchar>(q)) z_min = z, best = q;
-      }
-    }
-    if (z_min == std::numeric_limits<float>::max()) continue;   // no surface to grow from
-    if (flood_mask.at<uchar>(best.y + 1, best.x + 1)) continue;  // already grown or outside
-    cv::floodFill(depth, flood_mask, best, cv::Scalar(), nullptr, cv::Scalar(p.region_depth_step),
+    if (flood_mask.at<uchar>(s.y + 1, s.x + 1)) continue;  // already grown
+    cv::floodFill(depth, flood_mask, s, cv::Scalar(), nullptr, cv::Scalar(p.region_depth_step),
                   cv::Scalar(p.region_depth_step), flags);
   }
   // Region pixels were marked 255 (fill value); barriers were 1.
   cv::Mat inner = flood_mask(cv::Rect(1, 1, depth_m.cols, depth_m.rows));
   result.dynamic_region = (inner == 255);
+  return result;
+}
+
+GeometryResult findUnboxedMovers(const Pose& T_cw, const cv::Mat& depth_m, const cv::Mat& box_mask,
+                                 const std::vector<ReferenceView>& refs, const camera::PinholeCamera& cam,
+                                 const GeometryParams& p) {
+  GeometryResult result;
+  result.dynamic_region = cv::Mat::zeros(depth_m.size(), CV_8U);
+  const cv::Mat outside = box_mask.empty() ? cv::Mat(depth_m.size(), CV_8U, cv::Scalar(255)) : (box_mask == 0);
+  std::vector<cv::Point> consistent;
+  const auto seeds = findOcclusionEvidence(T_cw, depth_m, outside, refs, cam, p, result.projected, &consistent);
+  result.evidence = int(seeds.size());
+  if (int(seeds.size()) < p.unboxed_min_evidence) return result;
+  // One region per connected surface within +-unboxed_depth_range of its seed's depth (a fixed
+  // range, not a step: nothing confines the growth here, and a step would follow a floor or a
+  // wall the mover stands on). A region is a mover only with enough evidence of its own, and only
+  // if most of what the keyframes saw there is hidden: on a static surface a few edge points are.
+  cv::Mat flood_mask = floodBarrier(outside);
+  cv::Mat depth = depth_m.clone();
+  const double range = p.unboxed_depth_range;
+  int label = 2;  // floodFill marks with 2, 3, ... (1 = barrier); at most 253 regions
+  std::vector<int> votes;
+  for (const auto& s : seeds) {
+    uchar& here = flood_mask.at<uchar>(s.y + 1, s.x + 1);
+    if (here == 1) continue;
+    if (here == 0) {
+      if (label > 254) continue;
+      const int flags = 4 | cv::FLOODFILL_MASK_ONLY | cv::FLOODFILL_FIXED_RANGE | (label << 8);
+      cv::floodFill(depth, flood_mask, s, cv::Scalar(), nullptr, cv::Scalar(range), cv::Scalar(range), flags);
+      votes.push_back(0);
+      ++label;
+    }
+    ++votes[size_t(here - 2)];
+  }
+  cv::Mat inner = flood_mask(cv::Rect(1, 1, depth_m.cols, depth_m.rows));
+  std::vector<int> seen(votes.size(), 0);
+  for (const auto& q : consistent) {
+    const int l = inner.at<uchar>(q);
+    if (l >= 2 && l < label) ++seen[size_t(l - 2)];
+  }
+  // Accepted regions may run on into static surfaces within the depth range that touch the mover:
+  // in them, the region is grown again from the evidence with the neighbour-step rule of the
+  // in-box check, which stops where the depth jumps.
+  cv::Mat barrier(flood_mask.size(), CV_8U, cv::Scalar(1));
+  cv::Mat barrier_inner = barrier(cv::Rect(1, 1, depth_m.cols, depth_m.rows));
+  bool any = false;
+  for (size_t k = 0; k < votes.size(); ++k) {
+    if (votes[k] >= p.unboxed_min_evidence && votes[k] >= p.unboxed_min_hidden * (votes[k] + seen[k])) {
+      barrier_inner.setTo(0, inner == int(k + 2));
+      any = true;
+    }
+  }
+  if (!any) return result;
+  const int flags = 4 | cv::FLOODFILL_MASK_ONLY | (255 << 8);
+  for (const auto& s : seeds) {
+    if (barrier.at<uchar>(s.y + 1, s.x + 1)) continue;  // not in an accepted region, or grown
+    cv::floodFill(depth, barrier, s, cv::Scalar(), nullptr, cv::Scalar(p.region_depth_step),
+                  cv::Scalar(p.region_depth_step), flags);
+  }
+  result.dynamic_region = (barrier_inner == 255);
   return result;
 }
 

@@ -28,6 +28,12 @@ struct GeometryParams {
   int patch_radius = 3;              ///< px, patch searched around the projection
   double max_patch_std = 0.3;        ///< m, a patch with more depth spread is a complex edge: static
   double region_depth_step = 0.05;   ///< m, neighbour depth step allowed when growing a region
+  /// Movers the detector missed: the same check outside the boxes, on every frame (see
+  /// findUnboxedMovers). Not in the paper.
+  bool unboxed_check = true;
+  int unboxed_min_evidence = 15;      ///< hidden reference points a region needs to count as a mover
+  double unboxed_depth_range = 0.3;   ///< m, a region's depths stay within this of its seed's
+  double unboxed_min_hidden = 0.5;    ///< share of the reference points projected into a region that are hidden
 };
 
 /// A keyframe as the geometry check sees it.
@@ -45,7 +51,7 @@ struct BoxMask {
 /// detector boxes are tight and limbs of moving people stick out of them.
 BoxMask rasterizeBoxes(const std::vector<Detection>& boxes, cv::Size image, double margin = 0.0);
 
-/// Marks every keypoint inside the mask as excluded; returns how many.
+/// Marks every keypoint inside the mask as excluded; returns how many were not excluded before.
 int excludeKeypointsInMask(data::FrameFeatures& features, const cv::Mat& mask);
 
 /// Picks up to `n` keyframes nearest to the current pose by vDist = 0.7 vTrans + 0.3 vRot, each
@@ -63,6 +69,16 @@ struct GeometryResult {
 GeometryResult checkMultiViewGeometry(const Pose& T_cw, const cv::Mat& depth_m, const cv::Mat& box_mask,
                                       const std::vector<ReferenceView>& references,
                                       const camera::PinholeCamera& camera, const GeometryParams& params);
+
+/// The geometry check's evidence outside the boxes (all of the image if `box_mask` is empty): a
+/// mover the detector missed hides static structure the reference keyframes saw. Each connected
+/// surface within unboxed_depth_range of an evidence pixel's depth is a region; a region with at
+/// least unboxed_min_evidence evidence pixels, which are at least unboxed_min_hidden of the
+/// reference points projected into it, is a mover. Within it the dynamic region is regrown from the
+/// evidence with region_depth_step (so it stops where the mover's depth jumps to a touching surface).
+GeometryResult findUnboxedMovers(const Pose& T_cw, const cv::Mat& depth_m, const cv::Mat& box_mask,
+                                 const std::vector<ReferenceView>& references,
+                                 const camera::PinholeCamera& camera, const GeometryParams& params);
 
 /// Re-admits keypoints inside the boxes that are not in the dynamic region; returns how many.
 int readmitStaticKeypoints(data::FrameFeatures& features, const cv::Mat& box_mask, const cv::Mat& dynamic_region);

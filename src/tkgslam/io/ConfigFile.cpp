@@ -223,6 +223,10 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     s.get("patch_radius", g.patch_radius);
     s.get("max_patch_std", g.max_patch_std);
     s.get("region_depth_step", g.region_depth_step);
+    s.get("unboxed_check", g.unboxed_check);
+    s.get("unboxed_min_evidence", g.unboxed_min_evidence);
+    s.get("unboxed_depth_range", g.unboxed_depth_range);
+    s.get("unboxed_min_hidden", g.unboxed_min_hidden);
     s.checkNoUnknownKeys();
     // A relative model path is relative to the config file's folder.
     if (!d.model.empty() && std::filesystem::path(d.model).is_relative()) {
@@ -231,6 +235,10 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     require(c.dynamic.box_flow == "auto" || c.dynamic.box_flow == "on" || c.dynamic.box_flow == "off", source,
             "dynamic.box_flow must be auto, on or off");
     require(c.dynamic.detect_every >= 1, source, "dynamic.detect_every must be >= 1");
+    require(g.unboxed_min_evidence >= 1, source, "dynamic.unboxed_min_evidence must be >= 1");
+    require(g.unboxed_depth_range > 0, source, "dynamic.unboxed_depth_range must be > 0");
+    require(g.unboxed_min_hidden >= 0 && g.unboxed_min_hidden <= 1, source,
+            "dynamic.unboxed_min_hidden must be in [0, 1]");
     require(c.dynamic.box_margin >= 0 && c.dynamic.box_margin <= 0.5, source, "dynamic.box_margin must be in [0, 0.5]");
     require(c.dynamic.detector_tiles >= 1 && c.dynamic.detector_tiles <= 9, source,
             "dynamic.detector_tiles must be in [1, 9]");

@@ -35,12 +35,17 @@ tracking::RefineKeypoints SlamSystem::filterDynamic(const io::RgbdImages& images
   info.box_ratio = box_mask.ratio;
   for (const auto& b : info.boxes) (b.predicted ? info.predicted : info.detected)++;
   dynamic::excludeKeypointsInMask(features, box_mask.mask);
-  if (!config_.dynamic.usesGeometry() || box_mask.ratio < config_.dynamic.geometry.ratio_threshold) return {};
-  // Boxes cover most of the image: once tracking has a pose, the multi-view geometry check
-  // re-admits the static keypoints inside them.
-  return [this, &images, &box_mask, &info](data::Frame& frame,
-                                           const std::vector<std::shared_ptr<data::KeyFrame>>& local) {
+  if (!config_.dynamic.usesGeometry()) return {};
+  const auto& gp = config_.dynamic.geometry;
+  // Boxes cover most of the image: the multi-view geometry check re-admits the static keypoints
+  // inside them. On every frame: the same check outside the boxes finds movers the detector missed.
+  const bool in_boxes = box_mask.ratio >= gp.ratio_threshold;
+  if (!in_boxes && !gp.unboxed_check) return {};
+  // Runs once tracking has a pose; returns how many keypoints changed side.
+  return [this, &images, &box_mask, &info, in_boxes](data::Frame& frame,
+                                                     const std::vector<std::shared_ptr<data::KeyFrame>>& local) {
     const auto tg = std::chrono::steady_clock::now();
+    const auto& gp = config_.dynamic.geometry;
     std::vector<Pose> poses;
     std::vector<const data::KeyFrame*> kfs;
     for (const auto& kf : local) {
@@ -49,15 +54,20 @@ tracking::RefineKeypoints SlamSystem::filterDynamic(const io::RgbdImages& images
       kfs.push_back(kf.get());
     }
     std::vector<dynamic::ReferenceView> refs;
-    for (int i : dynamic::selectReferenceViews(frame.T_cw, poses, config_.dynamic.geometry.reference_keyframes)) {
+    for (int i : dynamic::selectReferenceViews(frame.T_cw, poses, gp.reference_keyframes)) {
       refs.push_back({kfs[i]->T_cw(), kfs[i]->features});
     }
-    const auto g = dynamic::checkMultiViewGeometry(frame.T_cw, images.depth_m, box_mask.mask, refs, camera_,
-                                                   config_.dynamic.geometry);
-    info.readmitted = dynamic::readmitStaticKeypoints(*frame.features, box_mask.mask, g.dynamic_region);
-    info.geometry = true;
+    if (in_boxes) {
+      const auto g = dynamic::checkMultiViewGeometry(frame.T_cw, images.depth_m, box_mask.mask, refs, camera_, gp);
+      info.readmitted = dynamic::readmitStaticKeypoints(*frame.features, box_mask.mask, g.dynamic_region);
+      info.geometry = true;
+    }
+    if (gp.unboxed_check) {
+      const auto u = dynamic::findUnboxedMovers(frame.T_cw, images.depth_m, box_mask.mask, refs, camera_, gp);
+      info.unboxed = dynamic::excludeKeypointsInMask(*frame.features, u.dynamic_region);
+    }
     timing_.add("geometry", msSince(tg));
-    return info.readmitted;
+    return info.readmitted + info.unboxed;
   };
 }
 

@@ -31,6 +31,7 @@ struct DynamicFrameInfo {
   int keypoints = 0;
   int dropped = 0;               ///< keypoints excluded in the end
   int readmitted = 0;            ///< in-box keypoints the geometry check found static
+  int unboxed = 0;               ///< keypoints outside the boxes the geometry check found dynamic
   int late_culled = 0;           ///< map points erased when a late detection arrived
   bool geometry = false;         ///< the multi-view check ran
   int missed_dynamic = -1;       ///< kept keypoints on the ground-truth mask (-1: no mask)

@@ -53,9 +53,13 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
   if (refine && state_ == TrackingState::Ok && (ok || has_velocity_)) {
     // The geometry check needs a pose: the tracked one, or - when the keypoints outside the boxes
     // were too few to track - the motion model's prediction. Keypoints it finds static are then
-    // matched too.
+    // matched too, those it finds dynamic no longer.
     if (!ok) frame.T_cw = predictPose();
     if (refine(frame, local_keyframes_) > 0) {
+      // Keypoints it found dynamic lose their matches.
+      for (int i = 0; i < frame.size(); ++i) {
+        if (frame.features->excluded[i]) frame.map_points[i].reset();
+      }
       if (!ok) ok = trackWithMotionModel(frame) || trackReferenceKeyFrame(frame);
       if (ok) ok = trackLocalMap(frame);
     }

@@ -45,8 +45,8 @@ struct FrameRecord {
   Pose T_cr = Pose::Identity();
 };
 
-/// Called once the frame has a pose from the keypoints outside the boxes; may re-admit keypoints
-/// (frame.features->excluded). Receives the local keyframes; returns how many were re-admitted.
+/// Called once the frame has a pose from the keypoints outside the boxes; may re-admit or exclude
+/// keypoints (frame.features->excluded). Receives the local keyframes; returns how many changed.
 using RefineKeypoints =
     std::function<int(data::Frame& frame, const std::vector<std::shared_ptr<data::KeyFrame>>& local_keyframes)>;
 
