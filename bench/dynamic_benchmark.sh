@@ -15,7 +15,7 @@ SEQ=${SEQ:-"$ROOT/../shared/datasets/rgbd_dataset_freiburg1_xyz"}
 PEOPLE=${PEOPLE:-"$ROOT/../shared/datasets/people"}
 OUT=${1:-"$ROOT/out/dynamic_benchmark"}
 FRAMES=${FRAMES:-300}
-MODES=${MODES:-"orb T TK TG TKG TKGa TKGl TKGt"}   # TKGa/TKGl/TKGt: asynchronous detector (see run_one)
+MODES=${MODES:-"orb T TK TG TKG TKGp TKGa TKGl TKGt"}   # TKGp: the paper's TKG; TKGa/l/t: asynchronous detector (see run_one)
 CFG="$ROOT/configs/tum_fr1.yaml"
 [ -x "$BIN" ] || { echo "build first: scripts/build.sh" >&2; exit 1; }
 [ -d "$SEQ" ] || { echo "sequence $SEQ not found" >&2; exit 1; }
@@ -47,6 +47,8 @@ done
 
 run_one() {  # sequence-name dataset-dir mode
   local name=$1 dir=$2 mode=$3 res="$OUT/runs/$1/$3" flags=(--mode "$3")
+  # TKGp: TKG as the paper has it, without the geometry check outside the boxes.
+  [ "$mode" = TKGp ] && flags=(--mode TKG --unboxed-check off)
   # TKGa: YOLO on every 8th frame, each result used 8 frames later (tracking never waits for it),
   # OpenCV on one thread so the detector keeps to one core.
   [ "$mode" = TKGa ] && flags=(--mode TKG --detect-every 8 --detector-latency 8 --opencv-threads 1)

@@ -9,7 +9,7 @@ import sys
 
 out, frames = sys.argv[1], int(sys.argv[2])
 seqs = ["static", "low", "high", "very_high", "high_blur", "high_shake", "extreme"]
-modes = ["orb", "T", "TK", "TG", "TKG", "TKGa", "TKGl", "TKGt"]
+modes = ["orb", "T", "TK", "TG", "TKG", "TKGp", "TKGa", "TKGl", "TKGt"]
 
 
 def load(path):
@@ -177,7 +177,7 @@ def detector_misses():
     print("YOLOv5n on every frame (the detections of T/TK/TG/TKG), against the truth box of each person in "
           "frames where it covers at least 5 % of the image: found = a detected box with IoU >= 0.5. "
           "The Kalman filter keeps a missed box for `dynamic.max_age` frames (3 in the configs); longer "
-          "runs of misses are left to the geometry check or not handled. The person in `fr3_walking_xyz_1341846316.570121.png` "
+          "runs of misses are left to the geometry check outside the boxes (TG, TKG; not TKGp). The person in `fr3_walking_xyz_1341846316.570121.png` "
           "is blacked out in that photo (anonymised): its cut-out is a solid black silhouette, which "
           "YOLOv5n finds less often than the textured people.\n")
     print("| composite | person | cut out of (photo #cut-out) | frames in view | found (%) | "
@@ -192,7 +192,9 @@ print("Composites: real people (cut out of real photos) walking their own 3-D pa
       "height); very_high = 3 people of 0.75-1.0; high_blur = high with the people motion-blurred on 30 % of "
       "the frames (fast walkers: the detector misses them, the camera still tracks); high_shake = the same "
       "blur over the whole frame (camera shake: ORB tracking suffers too); extreme = 4 people of 0.8-1.1, often covering the whole image, where YOLOv5n finds only "
-      "~60 % of them. TKGa = TKG with the asynchronous detector (every 8th frame, used 8 frames later); "
+      "~60 % of them. TG, TKG and its variants also run the geometry check outside the boxes on every frame "
+      "(people the detector missed; not in the paper); TKGp = TKG as in the paper, without that check. "
+      "TKGa = TKG with the asynchronous detector (every 8th frame, used 8 frames later); "
       "TKGl = the same with lookahead (frames held back until the next detection, boxes interpolated; "
       "poses 15 frames late); TKGt = lookahead with tiled detector runs (every 2nd frame detected, 4 frames "
       "tiled 2x2 at half size into one run, still one run per 8 frames; poses 15 frames late). "
