@@ -42,10 +42,9 @@ tracking::RefineKeypoints SlamSystem::filterDynamic(const io::RgbdImages& images
   const bool in_boxes = box_mask.ratio >= gp.ratio_threshold;
   if (!in_boxes && !gp.unboxed_check) return {};
   // Runs once tracking has a pose; returns how many keypoints changed side.
-  return [this, &images, &box_mask, &info, in_boxes](data::Frame& frame,
-                                                     const std::vector<std::shared_ptr<data::KeyFrame>>& local) {
+  return [this, &gp, &images, &box_mask, &info, in_boxes](data::Frame& frame,
+                                                          const std::vector<std::shared_ptr<data::KeyFrame>>& local) {
     const auto tg = std::chrono::steady_clock::now();
-    const auto& gp = config_.dynamic.geometry;
     std::vector<Pose> poses;
     std::vector<const data::KeyFrame*> kfs;
     for (const auto& kf : local) {
