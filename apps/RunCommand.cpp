@@ -30,6 +30,7 @@ struct RunOptions {
   int max_frames = 0;
   int loops = 1;
   int detect_every = 0, detector_latency = -1, opencv_threads = -1;  // < default: keep the config's
+  double refill_ratio = -1;
   std::string box_flow, unboxed_check;                               // empty: keep the config's
   bool lookahead = false;
   int detector_tiles = 0;  // 0: keep the config's
@@ -78,6 +79,7 @@ int runSlam(const RunOptions& o) {
   if (o.detect_every > 0) config.dynamic.detect_every = o.detect_every;
   if (o.detector_latency >= 0) config.dynamic.detector_latency = o.detector_latency;
   if (o.opencv_threads >= 0) config.opencv_threads = o.opencv_threads;
+  if (o.refill_ratio >= 0) config.dynamic.refill_ratio = o.refill_ratio;
   if (!o.box_flow.empty()) config.dynamic.box_flow = o.box_flow;
   if (!o.unboxed_check.empty()) config.dynamic.geometry.unboxed_check = o.unboxed_check == "on";
   if (o.lookahead) config.dynamic.lookahead = true;
@@ -120,8 +122,8 @@ int runSlam(const RunOptions& o) {
     }
     if (f.result.predicted) {
       ++predicted;
-      frame_log << fmt::format("{:.6f} predicted too few matches: pose from the constant-velocity model\n",
-                               f.timestamp);
+      frame_log << fmt::format("{:.6f} predicted {}: pose from the constant-velocity model\n", f.timestamp,
+                               f.result.jump_rejected ? "the tracked pose jumped" : "too few matches");
     }
     if (f.result.blurred) {
       ++blurred;
@@ -270,6 +272,9 @@ Action addRunCommand(CLI::App& app) {
   cmd->add_option("--detector-tiles", o->detector_tiles,
                   "With --lookahead: frames per detector run, tiled into one input (4 = 2x2 at half size)")
       ->check(CLI::Range(1, 9));
+  cmd->add_option("--refill-ratio", o->refill_ratio,
+                  "Boxes cover at least this share: extract ORB again outside them (0 = off; overrides the config)")
+      ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--opencv-threads", o->opencv_threads, "OpenCV's thread pool size (0 = default)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--debug-dynamic", o->debug_dynamic,

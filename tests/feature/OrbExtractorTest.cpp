@@ -63,6 +63,37 @@ TEST(OrbExtractor, DescriptorsAreRotationInvariantAndDeterministic) {
   EXPECT_GT(good, tested * 0.4) << good << " of " << tested;
 }
 
+TEST(OrbExtractor, ASkipMaskSendsTheWholeBudgetElsewhere) {
+  TKGSLAM_REQUIRE_SHARED();
+  const cv::Mat img = firstImage();
+  ASSERT_FALSE(img.empty());
+  feature::OrbExtractor ex(feature::OrbParams{});
+  // A person-sized box over the left 70 % of the image.
+  cv::Mat skip = cv::Mat::zeros(img.size(), CV_8U);
+  skip(cv::Rect(0, 0, 448, 480)).setTo(255);
+  const auto all = ex.extract(img);
+  const auto rest = ex.extract(img, skip);
+  int before = 0;
+  for (const auto& kp : all.keypoints) before += kp.pt.x >= 448.5f;
+  for (const auto& kp : rest.keypoints) EXPECT_GE(kp.pt.x, 447.5f);
+  ASSERT_EQ(rest.descriptors.rows, int(rest.keypoints.size()));
+  // The free 30 % holds about a third of the keypoints without the mask; with it, well over
+  // twice that (every level still fills its quota where it can).
+  EXPECT_GT(int(rest.keypoints.size()), 2 * before) << before << " -> " << rest.keypoints.size();
+  // Those it kept anyway are the same keypoints with the same descriptors.
+  int same = 0;
+  for (size_t i = 0; i < rest.keypoints.size(); ++i) {
+    for (size_t j = 0; j < all.keypoints.size(); ++j) {
+      if (all.keypoints[j].pt == rest.keypoints[i].pt && all.keypoints[j].octave == rest.keypoints[i].octave) {
+        same += cv::norm(all.descriptors.row(int(j)), rest.descriptors.row(int(i)), cv::NORM_HAMMING) == 0;
+        break;
+      }
+    }
+  }
+  EXPECT_GT(same, before / 2);
+  EXPECT_THROW(ex.extract(img, cv::Mat::zeros(10, 10, CV_8U)), InputError);
+}
+
 TEST(OrbExtractor, RejectsBadParametersAndImages) {
   feature::OrbParams p;
   p.scale_factor = 0.9;

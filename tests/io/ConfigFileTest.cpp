@@ -82,6 +82,9 @@ TEST(ConfigFile, InvalidValuesAreClearErrors) {
             std::string::npos);
   EXPECT_NE(errorOf(std::string(kMinimal) + "tracking: {blur_ratio: 1.5}").find("blur_ratio must be in [0, 1)"),
             std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {refill_ratio: 1.2}").find("refill_ratio must be in [0, 1]"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "tracking: {max_jump_deg: .nan}").find("must be finite"), std::string::npos);
   EXPECT_THROW(io::loadConfig("/nonexistent.yaml"), InputError);
 }
 

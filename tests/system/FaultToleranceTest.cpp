@@ -25,7 +25,9 @@ namespace {
 namespace fs = std::filesystem;
 
 /// What to write for one frame of a copied fr1_xyz sequence: the original file, or a stand-in.
-enum class FrameFault { None, Unreadable, Black, TruncatedDepth, NoDepth, Mirrored, MotionBlur };
+enum class FrameFault { None, Unreadable, Black, TruncatedDepth, NoDepth, Mirrored, MotionBlur, Swapped };
+/// FrameFault::Swapped: the frame's images are those of the frame this many frames later.
+constexpr int kSwapOffset = 30;
 
 cv::Mat mirrored(const std::string& path, int flags) {
   cv::Mat m;
@@ -63,12 +65,14 @@ void writeFaultySequence(const fs::path& seq, int frames, const std::function<bo
       case FrameFault::Black: cv::imwrite(rgb.string(), cv::Mat::zeros(480, 640, CV_8UC3)); break;
       case FrameFault::Mirrored: cv::imwrite(rgb.string(), mirrored(e.rgb_path, cv::IMREAD_COLOR)); break;
       case FrameFault::MotionBlur: cv::imwrite(rgb.string(), motionBlurred(e.rgb_path, 0.3 * i)); break;
+      case FrameFault::Swapped: fs::copy_file(src.entry(i + kSwapOffset).rgb_path, rgb); break;
       default: fs::copy_file(e.rgb_path, rgb);
     }
     switch (depth_fault(i)) {
       case FrameFault::TruncatedDepth: test::writeText(depth, test::readFile(e.depth_path).substr(0, 200)); break;
       case FrameFault::NoDepth: cv::imwrite(depth.string(), cv::Mat::zeros(480, 640, CV_16UC1)); break;
       case FrameFault::Mirrored: cv::imwrite(depth.string(), mirrored(e.depth_path, cv::IMREAD_ANYDEPTH)); break;
+      case FrameFault::Swapped: fs::copy_file(src.entry(i + kSwapOffset).depth_path, depth); break;
       default: fs::copy_file(e.depth_path, depth);
     }
     rgb_list += fmt::format("{:.6f} rgb/{}\n", e.rgb_timestamp, rgb.filename().string());
@@ -174,6 +178,43 @@ TEST(FaultTolerance, ShortUntrackableGapsAreBridgedByTheMotionModel) {
   for (int i : black) {
     EXPECT_NE(strict_log.find(fmt::format("{:.6f} lost", src.entry(i).rgb_timestamp)), std::string::npos) << i;
   }
+}
+
+// A frame whose images were taken elsewhere (a mis-synchronised log, a buffer handed out twice):
+// frame 80 shows the view of frame 110, 0.35 m away. Tracking finds that view in the map, but no
+// camera jumps 0.35 m in 33 ms: the pose is not used, the motion model bridges the frame, and the
+// trajectory stays where the camera was. The same jump is how wrong matches look (e.g. on a person
+// the detector missed) when they win the pose optimisation.
+TEST(FaultTolerance, APoseJumpNoCameraMakesIsNotUsed) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  const int swapped = 80;
+  writeFaultySequence(
+      tmp / "seq", 120, [](int) { return false; },
+      [&](int i) { return i == swapped ? FrameFault::Swapped : FrameFault::None; },
+      [&](int i) { return i == swapped ? FrameFault::Swapped : FrameFault::None; });
+  io::TumDataset src(test::fr1xyz().string());
+  const double t = src.entry(swapped).rgb_timestamp;
+  const auto gt = io::readTumTrajectory((test::fr1xyz() / "groundtruth.txt").string());
+  const auto errorAt = [&](const fs::path& out) {
+    const auto ate = eval::computeAte(gt, io::readTumTrajectory((out / "trajectory.txt").string()));
+    const auto k = std::min_element(ate.timestamps.begin(), ate.timestamps.end(),
+                                    [&](double a, double b) { return std::abs(a - t) < std::abs(b - t); });
+    return ate.errors[size_t(k - ate.timestamps.begin())];
+  };
+
+  std::string out;
+  ASSERT_EQ(runSequence(tmp.path(), "out", "", out), 0) << out;
+  const std::string log = test::readFile(tmp / "out" / "frame_log.txt");
+  EXPECT_NE(log.find(fmt::format("{:.6f} predicted the tracked pose jumped", t)), std::string::npos) << log;
+  EXPECT_EQ(log.find(" lost "), std::string::npos) << log;
+  EXPECT_LT(errorAt(tmp / "out"), 0.04);
+
+  // Without the check the frame is tracked - at the other frame's place.
+  ASSERT_EQ(runSequence(tmp.path(), "unchecked", "\ntracking:\n  max_jump_deg: 0\n  max_jump_m: 0\n", out), 0) << out;
+  EXPECT_EQ(test::readFile(tmp / "unchecked" / "frame_log.txt").find(fmt::format("{:.6f} predicted", t)),
+            std::string::npos);
+  EXPECT_GT(errorAt(tmp / "unchecked"), 0.2);
 }
 
 // Camera shake: a third of the frames smeared by 31 px, up to five in a row. Such frames track

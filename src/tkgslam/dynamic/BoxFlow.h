@@ -16,7 +16,7 @@
 namespace tkgslam::dynamic {
 
 struct BoxFlowParams {
-  int grid = 10;                ///< grid x grid points per box
+  int grid = 6;                 ///< grid x grid points per box (36: enough votes for a median)
   float scale = 0.5f;           ///< flow runs on the image resized by this (speed; boxes are big)
   int window = 15;              ///< LK window (pixels of the resized image)
   int levels = 2;               ///< pyramid levels above the resized image

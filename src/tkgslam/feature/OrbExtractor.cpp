@@ -157,7 +157,7 @@ OrbExtractor::OrbExtractor(const OrbParams& params) : params_(params) {
                                 kFastBorder, 0, 2, cv::ORB::FAST_SCORE, kPatchSize, params_.fast_threshold);
 }
 
-std::vector<cv::KeyPoint> OrbExtractor::detectLevel(const cv::Mat& img, int level) const {
+std::vector<cv::KeyPoint> OrbExtractor::detectLevel(const cv::Mat& img, int level, const cv::Mat& skip) const {
   const int min_x = kFastBorder, min_y = kFastBorder;
   const int max_x = img.cols - kFastBorder, max_y = img.rows - kFastBorder;
   if (max_x - min_x < kCellSize / 2 || max_y - min_y < kCellSize / 2) return {};
@@ -176,6 +176,11 @@ std::vector<cv::KeyPoint> OrbExtractor::detectLevel(const cv::Mat& img, int leve
     kp.pt.x += min_x - 3;
     kp.pt.y += min_y - 3;
     if (kp.pt.x < min_x || kp.pt.y < min_y || kp.pt.x >= max_x || kp.pt.y >= max_y) continue;
+    if (!skip.empty()) {
+      const float s = float(pyramid_.scales[level]);
+      const cv::Point p0(std::min(skip.cols - 1, cvRound(kp.pt.x * s)), std::min(skip.rows - 1, cvRound(kp.pt.y * s)));
+      if (skip.at<uchar>(p0)) continue;
+    }
     const int cx = std::min(int((kp.pt.x - min_x) / cell_w), cols - 1);
     const int cy = std::min(int((kp.pt.y - min_y) / cell_h), rows - 1);
     cells[cy * cols + cx].push_back(int(k));
@@ -213,8 +218,11 @@ std::vector<cv::KeyPoint> OrbExtractor::detectLevel(const cv::Mat& img, int leve
   return kps;
 }
 
-OrbFeatures OrbExtractor::extract(const cv::Mat& gray) const {
+OrbFeatures OrbExtractor::extract(const cv::Mat& gray, const cv::Mat& skip) const {
   if (gray.empty() || gray.type() != CV_8UC1) throw InputError("ORB extraction needs an 8-bit grey image");
+  if (!skip.empty() && (skip.type() != CV_8UC1 || skip.size() != gray.size())) {
+    throw InputError("ORB extraction: the skip mask must be 8-bit and of the image's size");
+  }
   OrbFeatures out;
   cv::Mat level_img = gray;
   for (int l = 0; l < params_.levels; ++l) {
@@ -224,7 +232,7 @@ OrbFeatures OrbExtractor::extract(const cv::Mat& gray) const {
       cv::resize(level_img, next, sz, 0, 0, cv::INTER_LINEAR_EXACT);
       level_img = next;
     }
-    auto kps = detectLevel(level_img, l);
+    auto kps = detectLevel(level_img, l, skip);
     out.keypoints.insert(out.keypoints.end(), kps.begin(), kps.end());
   }
   if (out.keypoints.empty()) {

@@ -31,15 +31,16 @@ class OrbExtractor {
   /// Throws InputError for invalid parameters.
   explicit OrbExtractor(const OrbParams& params);
 
-  /// Extracts features from an 8-bit grey image. Deterministic; thread-safe.
-  OrbFeatures extract(const cv::Mat& gray) const;
+  /// Extracts features from an 8-bit grey image. Deterministic; thread-safe. With a `skip` mask
+  /// (8-bit, image size, non-zero = no keypoints there) the whole budget goes to the rest.
+  OrbFeatures extract(const cv::Mat& gray, const cv::Mat& skip = {}) const;
 
   const OrbParams& params() const { return params_; }
   int levels() const { return params_.levels; }
   const ScalePyramid& pyramid() const { return pyramid_; }
 
  private:
-  std::vector<cv::KeyPoint> detectLevel(const cv::Mat& level_image, int level) const;
+  std::vector<cv::KeyPoint> detectLevel(const cv::Mat& level_image, int level, const cv::Mat& skip) const;
 
   OrbParams params_;
   ScalePyramid pyramid_;

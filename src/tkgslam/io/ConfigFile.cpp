@@ -161,6 +161,8 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     s.get("max_predicted_frames", c.tracking.max_predicted_frames);
     s.get("reanchor_segments", c.tracking.reanchor_segments);
     s.get("blur_ratio", c.tracking.blur_ratio);
+    s.get("max_jump_deg", c.tracking.max_jump_deg);
+    s.get("max_jump_m", c.tracking.max_jump_m);
     s.checkNoUnknownKeys();
     require(c.tracking.min_init_features >= 10, source, "tracking.min_init_features must be >= 10");
     require(c.tracking.min_tracked_inliers >= 6, source, "tracking.min_tracked_inliers must be >= 6");
@@ -205,6 +207,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     s.get("box_flow", c.dynamic.box_flow);
     s.get("lookahead", c.dynamic.lookahead);
     s.get("detector_tiles", c.dynamic.detector_tiles);
+    s.get("refill_ratio", c.dynamic.refill_ratio);
     s.get("late_culling", c.dynamic.late_culling);
     auto& t = c.dynamic.tracker;
     s.get("kalman_q", t.kalman.q);
@@ -240,6 +243,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     require(g.unboxed_min_hidden >= 0 && g.unboxed_min_hidden <= 1, source,
             "dynamic.unboxed_min_hidden must be in [0, 1]");
     require(c.dynamic.box_margin >= 0 && c.dynamic.box_margin <= 0.5, source, "dynamic.box_margin must be in [0, 0.5]");
+    require(c.dynamic.refill_ratio >= 0 && c.dynamic.refill_ratio <= 1, source, "dynamic.refill_ratio must be in [0, 1]");
     require(c.dynamic.detector_tiles >= 1 && c.dynamic.detector_tiles <= 9, source,
             "dynamic.detector_tiles must be in [1, 9]");
     require(c.dynamic.detector_tiles == 1 || c.dynamic.lookahead, source,

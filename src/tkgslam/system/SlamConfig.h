@@ -28,6 +28,13 @@ struct TrackingParams {
   /// before it is), and when it cannot be tracked its prediction does not count against
   /// max_predicted_frames. 0 = off.
   double blur_ratio = 0.3;
+  /// A tracked pose that differs from the constant-velocity prediction by more than this rotation
+  /// (degrees) or camera-centre distance (metres) in one frame is a jump no hand-held camera makes
+  /// (the TUM ground truth: at most 3 deg / 1 cm per 30 Hz frame): wrong matches (e.g. a person
+  /// the detector missed) won the optimisation. The frame is treated as untrackable instead.
+  /// <= 0 = off.
+  double max_jump_deg = 6.0;
+  double max_jump_m = 0.1;
 };
 
 struct MappingParams {
@@ -67,6 +74,9 @@ struct DynamicParams {
   /// Lookahead only: frames tiled into one detector input (1 = one full-size frame per run; 4 = the
   /// detect_every-th frames are detected in groups of 4 at half resolution, one run per group).
   int detector_tiles = 1;
+  /// Boxes cover at least this share of the image: ORB features are extracted again outside them,
+  /// so the whole feature budget goes to what may be static (0 = off; every mode with boxes).
+  double refill_ratio = 0.4;
   /// The detector does not give every frame its own boxes on time.
   bool sparseDetection() const { return detect_every > 1 || detector_latency > 0 || detector_tiles > 1; }
   bool usesLookahead() const { return lookahead && usesKalman() && sparseDetection(); }

@@ -29,12 +29,40 @@ SlamSystem::SlamSystem(const SlamConfig& config)
 
 SlamSystem::~SlamSystem() { mapping_thread_->stop(); }
 
-tracking::RefineKeypoints SlamSystem::filterDynamic(const io::RgbdImages& images, data::FrameFeatures& features,
+void SlamSystem::refillOutsideBoxes(const io::RgbdImages& images, std::shared_ptr<data::FrameFeatures>& features,
+                                    const cv::Mat& box_mask) {
+  const auto t0 = std::chrono::steady_clock::now();
+  feature::OrbFeatures outside = extractor_.extract(images.gray, box_mask);
+  feature::OrbFeatures merged;
+  std::vector<cv::Mat> rows;
+  const cv::Rect image(0, 0, box_mask.cols, box_mask.rows);
+  for (int i = 0; i < features->size(); ++i) {
+    const cv::Point p(cvRound(features->raw[i].pt.x), cvRound(features->raw[i].pt.y));
+    if (!p.inside(image) || !box_mask.at<uchar>(p)) continue;
+    merged.keypoints.push_back(features->raw[i]);
+    rows.push_back(features->descriptors.row(i));
+  }
+  merged.keypoints.insert(merged.keypoints.end(), outside.keypoints.begin(), outside.keypoints.end());
+  rows.push_back(outside.descriptors);
+  cv::vconcat(rows, merged.descriptors);
+  const double sharpness = features->sharpness;
+  features = data::makeFrameFeatures(std::move(merged), images.bgr, images.depth_m, camera_, config_.depth);
+  features->sharpness = sharpness;
+  timing_.add("refill", msSince(t0));
+}
+
+tracking::RefineKeypoints SlamSystem::filterDynamic(const io::RgbdImages& images,
+                                                    std::shared_ptr<data::FrameFeatures>& features,
                                                     dynamic::BoxMask& box_mask, DynamicFrameInfo& info) {
   box_mask = dynamic::rasterizeBoxes(info.boxes, images.bgr.size(), config_.dynamic.box_margin);
   info.box_ratio = box_mask.ratio;
   for (const auto& b : info.boxes) (b.predicted ? info.predicted : info.detected)++;
-  dynamic::excludeKeypointsInMask(features, box_mask.mask);
+  const double refill = config_.dynamic.refill_ratio;
+  // (Not on a motion-blurred image: more keypoints there are more smeared ones.)
+  if (refill > 0 && box_mask.ratio >= refill && !tracker_->looksBlurred(features->sharpness)) {
+    refillOutsideBoxes(images, features, box_mask.mask);
+  }
+  dynamic::excludeKeypointsInMask(*features, box_mask.mask);
   if (!config_.dynamic.usesGeometry()) return {};
   const auto& gp = config_.dynamic.geometry;
   // Boxes cover most of the image: the multi-view geometry check re-admits the static keypoints
@@ -142,7 +170,7 @@ FrameOutcome SlamSystem::track(PreparedFrame& prepared, std::vector<dynamic::Det
   info.late_culled = prepared.late_culled;
   info.boxes = std::move(boxes);
   tracking::RefineKeypoints refine;
-  if (boxes_) refine = filterDynamic(images, *features, box_mask, info);
+  if (boxes_) refine = filterDynamic(images, features, box_mask, info);
 
   const auto t1 = std::chrono::steady_clock::now();
   data::Frame frame(prepared.index, images.timestamp, features);

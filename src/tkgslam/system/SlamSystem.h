@@ -129,8 +129,12 @@ class SlamSystem {
   void recordBoxTimings(const dynamic::BoxTimings& bt);
   /// This frame's boxes -> excluded keypoints; returns the geometry step for the tracker
   /// (empty unless the mode has it and the boxes cover at least tau of the image).
-  tracking::RefineKeypoints filterDynamic(const io::RgbdImages& images, data::FrameFeatures& features,
+  tracking::RefineKeypoints filterDynamic(const io::RgbdImages& images, std::shared_ptr<data::FrameFeatures>& features,
                                           dynamic::BoxMask& box_mask, DynamicFrameInfo& info);
+  /// Boxes cover much of the image: keeps the keypoints inside them (the geometry check may find
+  /// them static) and extracts the rest again outside them with the whole feature budget.
+  void refillOutsideBoxes(const io::RgbdImages& images, std::shared_ptr<data::FrameFeatures>& features,
+                          const cv::Mat& box_mask);
   /// A late (asynchronous) detection shows where people were on frames already tracked: map
   /// points that keyframes of those frames created inside the boxes are erased, so tracking
   /// stops following the people. Returns how many.

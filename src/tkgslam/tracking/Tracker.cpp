@@ -65,6 +65,14 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     }
   }
 
+  // Only right after a tracked frame: after bridged frames the prediction is a guess, and across a
+  // gap in the input (frames missing from the log) the camera may be anywhere.
+  if (ok && has_velocity_ && gap_frames_ == 0 && frame.id > last_reloc_frame_ + 1 &&
+      frame.timestamp - last_frame_->timestamp < 2.0 / cfg_.camera.fps && poseJumped(frame.T_cw)) {
+    ok = false;
+    result.jump_rejected = true;
+  }
+
   // Blurred frames get bridged for longer than sharp ones: they are expected to fail.
   const int max_gap = 3 * cfg_.tracking.max_predicted_frames;
   if (ok) {
@@ -309,15 +317,17 @@ bool Tracker::trackWithMotionModel(Frame& frame) {
   return in_map >= 10;
 }
 
+bool Tracker::looksBlurred(double s) const {
+  if (cfg_.tracking.blur_ratio <= 0 || s < 0 || recent_sharpness_.empty()) return false;
+  std::vector<double> sorted(recent_sharpness_.begin(), recent_sharpness_.end());
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  return s < cfg_.tracking.blur_ratio * sorted[sorted.size() / 2];
+}
+
 bool Tracker::checkBlurred(const Frame& frame) {
   const double s = frame.features->sharpness;
   if (cfg_.tracking.blur_ratio <= 0 || s < 0) return false;
-  bool blurred = false;
-  if (!recent_sharpness_.empty()) {
-    std::vector<double> sorted(recent_sharpness_.begin(), recent_sharpness_.end());
-    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    blurred = s < cfg_.tracking.blur_ratio * sorted[sorted.size() / 2];
-  }
+  bool blurred = looksBlurred(s);
   // The yardstick is the sharp frames only (blur comes in runs); a long run of "blurred" frames
   // means the scene itself changed, and the yardstick starts again.
   blurred_run_ = blurred ? blurred_run_ + 1 : 0;
@@ -338,6 +348,16 @@ Pose Tracker::predictPose() const {
   if (!has_velocity_) return T;
   for (int k = 0; k <= gap_frames_; ++k) T = velocity_ * T;
   return orthonormalized(T);
+}
+
+bool Tracker::poseJumped(const Pose& T_cw) const {
+  const Pose P = predictPose();
+  const double deg = 180.0 / M_PI * Eigen::AngleAxisd(T_cw.linear() * P.linear().transpose()).angle();
+  const double metres = (T_cw.inverse().translation() - P.inverse().translation()).norm();
+  const auto& t = cfg_.tracking;
+  const bool jumped = (t.max_jump_deg > 0 && deg > t.max_jump_deg) || (t.max_jump_m > 0 && metres > t.max_jump_m);
+  if (jumped) spdlog::debug("pose jumped {:.1f} deg / {:.3f} m from the motion model: not used", deg, metres);
+  return jumped;
 }
 
 bool Tracker::isInFrustum(MapPoint& mp, const Frame& frame, double min_view_cos) const {

@@ -35,6 +35,9 @@ struct TrackResult {
   bool reanchored = false;
   /// The image is much less sharp than the frames before it (TrackingParams::blur_ratio).
   bool blurred = false;
+  /// The tracked pose jumped away from the motion model's prediction (TrackingParams::max_jump_deg)
+  /// and was not used; the frame was then bridged or lost like an untrackable one.
+  bool jump_rejected = false;
 };
 
 /// A frame's pose stored relative to its reference keyframe, so that later keyframe
@@ -60,6 +63,9 @@ class Tracker {
   TrackResult track(data::Frame frame, bool mapper_idle, int mapper_queue, const RefineKeypoints& refine = {});
 
   TrackingState state() const { return state_; }
+  /// An image of this sharpness (feature::imageSharpness) would count as motion-blurred now
+  /// (TrackingParams::blur_ratio of the recent sharp frames' median). Call from the tracking thread.
+  bool looksBlurred(double sharpness) const;
   /// Tracked (and motion-model predicted) frames so far; lost frames have no record.
   const std::vector<FrameRecord>& records() const { return records_; }
   /// The most recent frame (features, matches, pose) - for diagnostics.
@@ -105,6 +111,8 @@ class Tracker {
   /// Constant-velocity prediction for the current frame: `gap_frames_ + 1` steps of the last
   /// velocity from the last frame tracked against.
   Pose predictPose() const;
+  /// The tracked pose is further from the constant-velocity prediction than a camera moves.
+  bool poseJumped(const Pose& T_cw) const;
 
   data::Map& map_;
   const camera::PinholeCamera& cam_;
