@@ -9,12 +9,10 @@
 
 namespace tkgslam::dynamic {
 
-namespace {
 bool inMask(const cv::Mat& mask, const cv::Point2f& p) {
   const int u = cvRound(p.x), v = cvRound(p.y);
   return u >= 0 && v >= 0 && u < mask.cols && v < mask.rows && mask.at<uchar>(v, u);
 }
-}  // namespace
 
 BoxMask rasterizeBoxes(const std::vector<Detection>& boxes, cv::Size image, double margin) {
   BoxMask m;

@@ -51,6 +51,9 @@ struct BoxMask {
 /// detector boxes are tight and limbs of moving people stick out of them.
 BoxMask rasterizeBoxes(const std::vector<Detection>& boxes, cv::Size image, double margin = 0.0);
 
+/// The pixel nearest p is inside the image and non-zero in the 8-bit mask.
+bool inMask(const cv::Mat& mask, const cv::Point2f& p);
+
 /// Marks every keypoint inside the mask as excluded; returns how many were not excluded before.
 int excludeKeypointsInMask(data::FrameFeatures& features, const cv::Mat& mask);
 

@@ -35,10 +35,8 @@ void SlamSystem::refillOutsideBoxes(const io::RgbdImages& images, std::shared_pt
   feature::OrbFeatures outside = extractor_.extract(images.gray, box_mask);
   feature::OrbFeatures merged;
   std::vector<cv::Mat> rows;
-  const cv::Rect image(0, 0, box_mask.cols, box_mask.rows);
   for (int i = 0; i < features->size(); ++i) {
-    const cv::Point p(cvRound(features->raw[i].pt.x), cvRound(features->raw[i].pt.y));
-    if (!p.inside(image) || !box_mask.at<uchar>(p)) continue;
+    if (!dynamic::inMask(box_mask, features->raw[i].pt)) continue;
     merged.keypoints.push_back(features->raw[i]);
     rows.push_back(features->descriptors.row(i));
   }
