@@ -50,6 +50,32 @@ void BM_OrbExtraction(benchmark::State& state) {
 }
 BENCHMARK(BM_OrbExtraction)->Unit(benchmark::kMillisecond);
 
+// Boxes over 60 % of the image: the whole budget again outside them, by a second extraction
+// and from the first one's kept detections (what the dynamic modes do).
+cv::Mat boxSkipMask(const cv::Mat& gray) {
+  cv::Mat skip = cv::Mat::zeros(gray.size(), CV_8U);
+  skip(cv::Rect(0, 0, gray.cols * 6 / 10, gray.rows)).setTo(255);
+  return skip;
+}
+
+void BM_OrbRefillByExtraction(benchmark::State& state) {
+  auto& f = fixture();
+  if (!f.ok) return state.SkipWithError("../shared/datasets/rgbd_dataset_freiburg1_xyz not found");
+  const cv::Mat skip = boxSkipMask(f.a.gray);
+  for (auto _ : state) benchmark::DoNotOptimize(f.extractor->extract(f.a.gray, skip));
+}
+BENCHMARK(BM_OrbRefillByExtraction)->Unit(benchmark::kMillisecond);
+
+void BM_OrbRefillFromDetections(benchmark::State& state) {
+  auto& f = fixture();
+  if (!f.ok) return state.SkipWithError("../shared/datasets/rgbd_dataset_freiburg1_xyz not found");
+  const cv::Mat skip = boxSkipMask(f.a.gray);
+  feature::OrbDetections detections;
+  const auto first = f.extractor->extract(f.a.gray, {}, &detections);
+  for (auto _ : state) benchmark::DoNotOptimize(f.extractor->extractAgain(detections, f.a.gray, skip, first));
+}
+BENCHMARK(BM_OrbRefillFromDetections)->Unit(benchmark::kMillisecond);
+
 void BM_FrameFeatures(benchmark::State& state) {
   auto& f = fixture();
   if (!f.ok) return state.SkipWithError("../shared/datasets/rgbd_dataset_freiburg1_xyz not found");

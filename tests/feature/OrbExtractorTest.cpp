@@ -1,4 +1,5 @@
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <gtest/gtest.h>
 
@@ -92,6 +93,36 @@ TEST(OrbExtractor, ASkipMaskSendsTheWholeBudgetElsewhere) {
   }
   EXPECT_GT(same, before / 2);
   EXPECT_THROW(ex.extract(img, cv::Mat::zeros(10, 10, CV_8U)), InputError);
+}
+
+TEST(OrbExtractor, ExtractingAgainFromKeptDetectionsGivesExactlyWhatASecondExtractionWould) {
+  TKGSLAM_REQUIRE_SHARED();
+  const cv::Mat img = firstImage();
+  ASSERT_FALSE(img.empty());
+  feature::OrbExtractor ex(feature::OrbParams{});
+  feature::OrbDetections detections;
+  const auto first = ex.extract(img, {}, &detections);
+  ASSERT_EQ(int(detections.levels.size()), ex.levels());
+  // A box in the middle (where a person walks through), and one over most of the image.
+  for (const cv::Rect box : {cv::Rect(200, 60, 220, 420), cv::Rect(0, 0, 560, 480)}) {
+    cv::Mat skip = cv::Mat::zeros(img.size(), CV_8U);
+    skip(box).setTo(255);
+    const auto expected = ex.extract(img, skip);
+    const auto again = ex.extractAgain(detections, img, skip, first);
+    ASSERT_EQ(again.keypoints.size(), expected.keypoints.size());
+    ASSERT_GT(expected.keypoints.size(), 500u);
+    for (size_t i = 0; i < expected.keypoints.size(); ++i) {
+      EXPECT_EQ(again.keypoints[i].pt, expected.keypoints[i].pt);
+      EXPECT_EQ(again.keypoints[i].octave, expected.keypoints[i].octave);
+      EXPECT_EQ(again.keypoints[i].angle, expected.keypoints[i].angle);
+    }
+    ASSERT_EQ(again.descriptors.size(), expected.descriptors.size());
+    EXPECT_EQ(cv::norm(again.descriptors, expected.descriptors, cv::NORM_HAMMING), 0.0);
+  }
+  // Detections of another image are refused rather than silently used.
+  cv::Mat half;
+  cv::resize(img, half, img.size() / 2);
+  EXPECT_THROW(ex.extractAgain(detections, half, {}, first), InputError);
 }
 
 TEST(OrbExtractor, RejectsBadParametersAndImages) {

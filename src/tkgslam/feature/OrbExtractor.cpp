@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <list>
+#include <map>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
@@ -157,7 +159,7 @@ OrbExtractor::OrbExtractor(const OrbParams& params) : params_(params) {
                                 kFastBorder, 0, 2, cv::ORB::FAST_SCORE, kPatchSize, params_.fast_threshold);
 }
 
-std::vector<cv::KeyPoint> OrbExtractor::detectLevel(const cv::Mat& img, int level, const cv::Mat& skip) const {
+std::vector<cv::KeyPoint> OrbExtractor::detectCorners(const cv::Mat& img) const {
   const int min_x = kFastBorder, min_y = kFastBorder;
   const int max_x = img.cols - kFastBorder, max_y = img.rows - kFastBorder;
   if (max_x - min_x < kCellSize / 2 || max_y - min_y < kCellSize / 2) return {};
@@ -166,16 +168,30 @@ std::vector<cv::KeyPoint> OrbExtractor::detectLevel(const cv::Mat& img, int leve
   std::vector<cv::KeyPoint> all;
   cv::FAST(img(cv::Rect(min_x - 3, min_y - 3, max_x - min_x + 6, max_y - min_y + 6)), all,
            params_.fast_min_threshold, true);
+  std::vector<cv::KeyPoint> inside;
+  inside.reserve(all.size());
+  for (auto& kp : all) {
+    kp.pt.x += min_x - 3;
+    kp.pt.y += min_y - 3;
+    if (kp.pt.x < min_x || kp.pt.y < min_y || kp.pt.x >= max_x || kp.pt.y >= max_y) continue;
+    inside.push_back(kp);
+  }
+  return inside;
+}
+
+std::vector<cv::KeyPoint> OrbExtractor::selectKeypoints(const cv::Mat& img, int level,
+                                                        const std::vector<cv::KeyPoint>& all,
+                                                        const cv::Mat& skip) const {
+  const int min_x = kFastBorder, min_y = kFastBorder;
+  const int max_x = img.cols - kFastBorder, max_y = img.rows - kFastBorder;
+  if (all.empty()) return {};
   const int cols = std::max(1, (max_x - min_x) / kCellSize);
   const int rows = std::max(1, (max_y - min_y) / kCellSize);
   const float cell_w = float(max_x - min_x) / cols, cell_h = float(max_y - min_y) / rows;
   std::vector<std::vector<int>> cells(cols * rows);
   std::vector<char> cell_has_strong(cols * rows, 0);
   for (size_t k = 0; k < all.size(); ++k) {
-    auto& kp = all[k];
-    kp.pt.x += min_x - 3;
-    kp.pt.y += min_y - 3;
-    if (kp.pt.x < min_x || kp.pt.y < min_y || kp.pt.x >= max_x || kp.pt.y >= max_y) continue;
+    const auto& kp = all[k];
     if (!skip.empty()) {
       const float s = float(pyramid_.scales[level]);
       const cv::Point p0(std::min(skip.cols - 1, cvRound(kp.pt.x * s)), std::min(skip.rows - 1, cvRound(kp.pt.y * s)));
@@ -218,12 +234,32 @@ std::vector<cv::KeyPoint> OrbExtractor::detectLevel(const cv::Mat& img, int leve
   return kps;
 }
 
-OrbFeatures OrbExtractor::extract(const cv::Mat& gray, const cv::Mat& skip) const {
+void OrbExtractor::checkInputs(const cv::Mat& gray, const cv::Mat& skip) const {
   if (gray.empty() || gray.type() != CV_8UC1) throw InputError("ORB extraction needs an 8-bit grey image");
   if (!skip.empty() && (skip.type() != CV_8UC1 || skip.size() != gray.size())) {
     throw InputError("ORB extraction: the skip mask must be 8-bit and of the image's size");
   }
+}
+
+namespace {
+void describe(const cv::Ptr<cv::ORB>& descriptor, const cv::Mat& gray, OrbFeatures& f) {
+  if (f.keypoints.empty()) {
+    f.descriptors = cv::Mat(0, 32, CV_8U);
+    return;
+  }
+  // cv::ORB keeps keypoints that are already in level order in their order.
+  const size_t n = f.keypoints.size();
+  descriptor->compute(gray, f.keypoints, f.descriptors);
+  if (f.keypoints.size() != n) {
+    throw std::logic_error("ORB descriptor computation dropped keypoints");  // border mismatch
+  }
+}
+}  // namespace
+
+OrbFeatures OrbExtractor::extract(const cv::Mat& gray, const cv::Mat& skip, OrbDetections* detections) const {
+  checkInputs(gray, skip);
   OrbFeatures out;
+  if (detections) *detections = {};
   cv::Mat level_img = gray;
   for (int l = 0; l < params_.levels; ++l) {
     if (l > 0) {
@@ -232,17 +268,47 @@ OrbFeatures OrbExtractor::extract(const cv::Mat& gray, const cv::Mat& skip) cons
       cv::resize(level_img, next, sz, 0, 0, cv::INTER_LINEAR_EXACT);
       level_img = next;
     }
-    auto kps = detectLevel(level_img, l, skip);
+    auto corners = detectCorners(level_img);
+    auto kps = selectKeypoints(level_img, l, corners, skip);
     out.keypoints.insert(out.keypoints.end(), kps.begin(), kps.end());
+    if (detections) {
+      detections->levels.push_back(level_img);
+      detections->corners.push_back(std::move(corners));
+    }
   }
-  if (out.keypoints.empty()) {
-    out.descriptors = cv::Mat(0, 32, CV_8U);
-    return out;
+  describe(descriptor_, gray, out);
+  return out;
+}
+
+OrbFeatures OrbExtractor::extractAgain(const OrbDetections& detections, const cv::Mat& gray, const cv::Mat& skip,
+                                       const OrbFeatures& previous) const {
+  checkInputs(gray, skip);
+  if (int(detections.levels.size()) != params_.levels || detections.corners.size() != detections.levels.size() ||
+      detections.levels[0].size() != gray.size()) {
+    throw InputError("ORB extraction: the detections are not of this image");
   }
-  const size_t n = out.keypoints.size();
-  descriptor_->compute(gray, out.keypoints, out.descriptors);
-  if (out.keypoints.size() != n) {
-    throw std::logic_error("ORB descriptor computation dropped keypoints");  // border mismatch
+  // Keypoints are identified by level and position: the same corner gives the same keypoint.
+  using Key = std::tuple<int, float, float>;
+  std::map<Key, int> known;
+  for (size_t i = 0; i < previous.keypoints.size(); ++i) {
+    const auto& kp = previous.keypoints[i];
+    known.emplace(Key{kp.octave, kp.pt.x, kp.pt.y}, int(i));
+  }
+  OrbFeatures out, fresh;
+  std::vector<int> reused;  // per output keypoint: row of previous.descriptors, or -1
+  for (int l = 0; l < params_.levels; ++l) {
+    for (auto& kp : selectKeypoints(detections.levels[l], l, detections.corners[l], skip)) {
+      const auto it = known.find(Key{kp.octave, kp.pt.x, kp.pt.y});
+      reused.push_back(it == known.end() ? -1 : it->second);
+      if (it == known.end()) fresh.keypoints.push_back(kp);
+      out.keypoints.push_back(kp);
+    }
+  }
+  describe(descriptor_, gray, fresh);
+  out.descriptors.create(int(out.keypoints.size()), 32, CV_8U);
+  for (int i = 0, next_fresh = 0; i < int(out.keypoints.size()); ++i) {
+    const cv::Mat src = reused[i] >= 0 ? previous.descriptors.row(reused[i]) : fresh.descriptors.row(next_fresh++);
+    src.copyTo(out.descriptors.row(i));
   }
   return out;
 }

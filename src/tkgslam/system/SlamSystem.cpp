@@ -29,10 +29,12 @@ SlamSystem::SlamSystem(const SlamConfig& config)
 
 SlamSystem::~SlamSystem() { mapping_thread_->stop(); }
 
-void SlamSystem::refillOutsideBoxes(const io::RgbdImages& images, std::shared_ptr<data::FrameFeatures>& features,
-                                    const cv::Mat& box_mask) {
+void SlamSystem::refillOutsideBoxes(PreparedFrame& frame, const cv::Mat& box_mask) {
   const auto t0 = std::chrono::steady_clock::now();
-  feature::OrbFeatures outside = extractor_.extract(images.gray, box_mask);
+  auto& features = frame.features;
+  const feature::OrbFeatures first{features->raw, features->descriptors};
+  // prepare() kept the detections: dynamic modes with the refill on.
+  feature::OrbFeatures outside = extractor_.extractAgain(*frame.detections, frame.images.gray, box_mask, first);
   feature::OrbFeatures merged;
   std::vector<cv::Mat> rows;
   for (int i = 0; i < features->size(); ++i) {
@@ -44,22 +46,24 @@ void SlamSystem::refillOutsideBoxes(const io::RgbdImages& images, std::shared_pt
   rows.push_back(outside.descriptors);
   cv::vconcat(rows, merged.descriptors);
   const double sharpness = features->sharpness;
-  features = data::makeFrameFeatures(std::move(merged), images.bgr, images.depth_m, camera_, config_.depth);
+  features = data::makeFrameFeatures(std::move(merged), frame.images.bgr, frame.images.depth_m, camera_, config_.depth);
   features->sharpness = sharpness;
   timing_.add("refill", msSince(t0));
 }
 
-tracking::RefineKeypoints SlamSystem::filterDynamic(const io::RgbdImages& images,
-                                                    std::shared_ptr<data::FrameFeatures>& features,
-                                                    dynamic::BoxMask& box_mask, DynamicFrameInfo& info) {
+tracking::RefineKeypoints SlamSystem::filterDynamic(PreparedFrame& frame, dynamic::BoxMask& box_mask,
+                                                    DynamicFrameInfo& info) {
+  const io::RgbdImages& images = frame.images;
   box_mask = dynamic::rasterizeBoxes(info.boxes, images.bgr.size(), config_.dynamic.box_margin);
   info.box_ratio = box_mask.ratio;
   for (const auto& b : info.boxes) (b.predicted ? info.predicted : info.detected)++;
   const double refill = config_.dynamic.refill_ratio;
   // (Not on a motion-blurred image: more keypoints there are more smeared ones.)
-  if (refill > 0 && box_mask.ratio >= refill && !tracker_->looksBlurred(features->sharpness)) {
-    refillOutsideBoxes(images, features, box_mask.mask);
+  if (refill > 0 && box_mask.ratio >= refill && !tracker_->looksBlurred(frame.features->sharpness)) {
+    refillOutsideBoxes(frame, box_mask.mask);
   }
+  frame.detections.reset();
+  auto& features = frame.features;
   dynamic::excludeKeypointsInMask(*features, box_mask.mask);
   if (!config_.dynamic.usesGeometry()) return {};
   const auto& gp = config_.dynamic.geometry;
@@ -151,7 +155,10 @@ SlamSystem::PreparedFrame SlamSystem::prepare(const io::RgbdImages& images) {
     boxes_->beginFrame(f.index, images.bgr, images.depth_m);
     if (config_.dynamic.late_culling) f.late_culled = cullLateDynamicPoints(boxes_->takeLateBoxes(), images.bgr.size());
   }
-  auto orb = extractor_.extract(images.gray);
+  // Dynamic modes keep the pyramid and FAST corners: boxes over much of the image get the
+  // keypoints redistributed outside them from these (filterDynamic).
+  if (boxes_ && config_.dynamic.refill_ratio > 0) f.detections = std::make_unique<feature::OrbDetections>();
+  auto orb = extractor_.extract(images.gray, {}, f.detections.get());
   f.features = data::makeFrameFeatures(std::move(orb), images.bgr, images.depth_m, camera_, config_.depth);
   if (config_.tracking.blur_ratio > 0) f.features->sharpness = feature::imageSharpness(images.gray);
   f.prepare_ms = msSince(t0);
@@ -168,7 +175,7 @@ FrameOutcome SlamSystem::track(PreparedFrame& prepared, std::vector<dynamic::Det
   info.late_culled = prepared.late_culled;
   info.boxes = std::move(boxes);
   tracking::RefineKeypoints refine;
-  if (boxes_) refine = filterDynamic(images, features, box_mask, info);
+  if (boxes_) refine = filterDynamic(prepared, box_mask, info);
 
   const auto t1 = std::chrono::steady_clock::now();
   data::Frame frame(prepared.index, images.timestamp, features);

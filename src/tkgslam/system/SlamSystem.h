@@ -110,6 +110,7 @@ class SlamSystem {
     long index = 0;
     io::RgbdImages images;
     std::shared_ptr<data::FrameFeatures> features;
+    std::unique_ptr<feature::OrbDetections> detections;  ///< kept for the refill (dynamic modes)
     double prepare_ms = 0;  ///< feature extraction and this frame's box work (flow, late detections)
     double wait_ms = 0;     ///< waiting for a synchronous detection
     int late_culled = 0;
@@ -129,12 +130,10 @@ class SlamSystem {
   void recordBoxTimings(const dynamic::BoxTimings& bt);
   /// This frame's boxes -> excluded keypoints; returns the geometry step for the tracker
   /// (empty unless the mode has it and the boxes cover at least tau of the image).
-  tracking::RefineKeypoints filterDynamic(const io::RgbdImages& images, std::shared_ptr<data::FrameFeatures>& features,
-                                          dynamic::BoxMask& box_mask, DynamicFrameInfo& info);
+  tracking::RefineKeypoints filterDynamic(PreparedFrame& frame, dynamic::BoxMask& box_mask, DynamicFrameInfo& info);
   /// Boxes cover much of the image: keeps the keypoints inside them (the geometry check may find
   /// them static) and extracts the rest again outside them with the whole feature budget.
-  void refillOutsideBoxes(const io::RgbdImages& images, std::shared_ptr<data::FrameFeatures>& features,
-                          const cv::Mat& box_mask);
+  void refillOutsideBoxes(PreparedFrame& frame, const cv::Mat& box_mask);
   /// A late (asynchronous) detection shows where people were on frames already tracked: map
   /// points that keyframes of those frames created inside the boxes are erased, so tracking
   /// stops following the people. Returns how many.
