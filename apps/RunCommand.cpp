@@ -123,7 +123,9 @@ int runSlam(const RunOptions& o) {
     if (f.result.predicted) {
       ++predicted;
       frame_log << fmt::format("{:.6f} predicted {}: pose from the constant-velocity model\n", f.timestamp,
-                               f.result.jump_rejected ? "the tracked pose jumped" : "too few matches");
+                               f.result.jump_rejected ? "the tracked pose jumped"
+                               : f.result.covered     ? "too few matches outside the boxes covering the view"
+                                                      : "too few matches");
     }
     if (f.result.blurred) {
       ++blurred;

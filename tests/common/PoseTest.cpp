@@ -62,6 +62,22 @@ TEST(Pose, RootIsTheConstantStepThatComposesToThePose) {
   EXPECT_TRUE(poseRoot(T, 3).linear().isIdentity(1e-12));
 }
 
+TEST(Pose, InterpolationMovesTheCameraCentreStraightAndTurnsAtAConstantRate) {
+  const Pose a = poseFromTranslationQuaternion(Vec3(0.3, -0.2, 1.0), 0.1, 0.2, -0.1, 0.97);
+  Pose step = Pose::Identity();
+  step.linear() = Eigen::AngleAxisd(0.09, Vec3(0.2, 1.0, -0.3).normalized()).toRotationMatrix();
+  step.translation() = Vec3(0.02, -0.01, 0.015);
+  Pose b = a;
+  for (int k = 0; k < 3; ++k) b = step * b;  // three frames of a turning, moving camera
+  EXPECT_TRUE(interpolatePose(a, b, 0).isApprox(a, 1e-12));
+  EXPECT_TRUE(interpolatePose(a, b, 1).isApprox(b, 1e-12));
+  const Pose m = interpolatePose(a, b, 1.0 / 3);
+  // A third of the rotation between them, and a centre a third of the way along the chord.
+  EXPECT_NEAR(rotationAngle((m.linear() * a.linear().transpose())), 0.09, 1e-9);
+  const Vec3 ca = a.inverse().translation(), cb = b.inverse().translation();
+  EXPECT_LT((m.inverse().translation() - (ca + (cb - ca) / 3)).norm(), 1e-12);
+}
+
 TEST(Pose, TrajectoryEntryPoseIsCameraToWorld) {
   io::TrajectoryEntry e;
   e.t = Vec3(1, 2, 3);

@@ -33,6 +33,14 @@ Pose applyIncrement(const Pose& T, const Eigen::Matrix<double, 6, 1>& delta) {
   return orthonormalized(D * T);
 }
 
+Pose interpolatePose(const Pose& a, const Pose& b, double s) {
+  const Pose A = a.inverse(), B = b.inverse();  // camera -> world
+  Pose T = Pose::Identity();
+  T.linear() = Eigen::Quaterniond(A.linear()).slerp(s, Eigen::Quaterniond(B.linear())).toRotationMatrix();
+  T.translation() = (1 - s) * A.translation() + s * B.translation();
+  return T.inverse();
+}
+
 Pose poseRoot(const Pose& T, int n) {
   if (n <= 1) return T;
   const Eigen::AngleAxisd aa(T.linear());

@@ -35,6 +35,10 @@ Pose applyIncrement(const Pose& T, const Eigen::Matrix<double, 6, 1>& delta);
 /// translation that n such steps add up to T's. E.g. the per-frame velocity over an n-frame gap.
 Pose poseRoot(const Pose& T, int n);
 
+/// The camera pose a share `s` (0 = a, 1 = b) of the way from world->camera pose `a` to `b`: the
+/// camera centre moves on the straight line, the orientation by slerp (constant angular rate).
+Pose interpolatePose(const Pose& a, const Pose& b, double s);
+
 /// Rotation angle of a rotation matrix in radians, in [0, pi].
 double rotationAngle(const Mat3& R);
 

@@ -24,6 +24,7 @@ struct Frame {
   std::vector<char> outlier;                          ///< per keypoint, set by pose optimisation
   Pose T_cw = Pose::Identity();                       ///< world -> camera
   std::shared_ptr<KeyFrame> reference;                ///< keyframe the pose is stored relative to
+  double box_cover = 0;  ///< share of the image inside dynamic-object boxes (0 without a detector)
 
   Vec3 centre() const { return T_cw.inverse().translation(); }
   int size() const { return features->size(); }

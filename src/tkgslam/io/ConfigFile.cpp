@@ -163,6 +163,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     s.get("blur_ratio", c.tracking.blur_ratio);
     s.get("max_jump_deg", c.tracking.max_jump_deg);
     s.get("max_jump_m", c.tracking.max_jump_m);
+    s.get("covered_ratio", c.tracking.covered_ratio);
     s.checkNoUnknownKeys();
     require(c.tracking.min_init_features >= 10, source, "tracking.min_init_features must be >= 10");
     require(c.tracking.min_tracked_inliers >= 6, source, "tracking.min_tracked_inliers must be >= 6");
@@ -172,6 +173,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     require(c.tracking.max_predicted_frames >= 0 && c.tracking.max_predicted_frames <= 30, source,
             "tracking.max_predicted_frames must be in [0, 30]");
     require(c.tracking.blur_ratio >= 0 && c.tracking.blur_ratio < 1, source, "tracking.blur_ratio must be in [0, 1)");
+    require(c.tracking.covered_ratio > 0, source, "tracking.covered_ratio must be > 0 (> 1 = off)");
   }
   {
     Section s(root, "mapping", source, false);

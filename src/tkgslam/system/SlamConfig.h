@@ -35,6 +35,10 @@ struct TrackingParams {
   /// <= 0 = off.
   double max_jump_deg = 6.0;
   double max_jump_m = 0.1;
+  /// A frame whose dynamic-object boxes cover at least this share of the image (a person filling
+  /// the view) is expected to fail like a blurred one: when it cannot be tracked, its prediction
+  /// does not count against max_predicted_frames either. > 1 = off.
+  double covered_ratio = 0.9;
 };
 
 struct MappingParams {

@@ -179,6 +179,7 @@ FrameOutcome SlamSystem::track(PreparedFrame& prepared, std::vector<dynamic::Det
 
   const auto t1 = std::chrono::steady_clock::now();
   data::Frame frame(prepared.index, images.timestamp, features);
+  frame.box_cover = box_mask.ratio;
   FrameOutcome outcome;
   outcome.index = prepared.index;
   outcome.timestamp = images.timestamp;

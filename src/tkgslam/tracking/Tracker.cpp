@@ -23,6 +23,7 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
   std::lock_guard<std::mutex> lock(map_.mutex());
   TrackResult result;
   result.blurred = checkBlurred(frame);
+  result.covered = frame.box_cover >= cfg_.tracking.covered_ratio;
   if (state_ == TrackingState::NotInitialized) {
     // A map started on a blurred image would have a blurred first keyframe: wait for a sharp one.
     if (!result.blurred && initialize(frame, false)) {
@@ -73,7 +74,7 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     result.jump_rejected = true;
   }
 
-  // Blurred frames get bridged for longer than sharp ones: they are expected to fail.
+  // Blurred frames (and covered ones) get bridged for longer than sharp ones: they are expected to fail.
   const int max_gap = 3 * cfg_.tracking.max_predicted_frames;
   if (ok) {
     state_ = TrackingState::Ok;
@@ -98,6 +99,7 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     // After bridged frames the step spans several frames: the velocity is its per-frame share.
     velocity_ = orthonormalized(poseRoot(frame.T_cw * last_frame_->T_cw.inverse(), gap_frames_ + 1));
     has_velocity_ = !after_loss;
+    const int gap = gap_frames_;
     gap_frames_ = 0;
     predicted_frames_ = 0;
     // (A blurred frame gets here after a long run of them: it becomes the frame to match against,
@@ -111,13 +113,15 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     }
     if (!frame.reference) frame.reference = reference_kf_;
     records_.push_back({frame.timestamp, frame.reference, frame.T_cw * frame.reference->T_wc()});
+    if (gap > 0) interpolateBridgedRecords(gap);
     result.tracked = true;
     result.inliers = matches_inliers_;
     last_frame_ = std::make_unique<Frame>(std::move(frame));
     return result;
   }
 
-  const bool bridge = result.blurred ? gap_frames_ < max_gap : predicted_frames_ < cfg_.tracking.max_predicted_frames;
+  const bool expected_to_fail = result.blurred || result.covered;
+  const bool bridge = expected_to_fail ? gap_frames_ < max_gap : predicted_frames_ < cfg_.tracking.max_predicted_frames;
   // Right after a map start or a relocalisation there is no velocity yet; a blurred frame then
   // keeps the last pose rather than losing the map.
   if (state_ == TrackingState::Ok && (has_velocity_ || result.blurred) && bridge) {
@@ -126,9 +130,9 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     // than relocalising from scratch. No keyframes come from these frames.
     frame.T_cw = predictPose();
     ++gap_frames_;
-    if (!result.blurred) ++predicted_frames_;
+    if (!expected_to_fail) ++predicted_frames_;
     const auto& ref = reference_kf_ ? reference_kf_ : last_frame_->reference;
-    records_.push_back({frame.timestamp, ref, frame.T_cw * ref->T_wc()});
+    records_.push_back({frame.timestamp, ref, frame.T_cw * ref->T_wc(), true});
     result.tracked = true;
     result.predicted = true;
     return result;
@@ -348,6 +352,25 @@ Pose Tracker::predictPose() const {
   if (!has_velocity_) return T;
   for (int k = 0; k <= gap_frames_; ++k) T = velocity_ * T;
   return orthonormalized(T);
+}
+
+void Tracker::interpolateBridgedRecords(int gap) {
+  // The records since the last frame are exactly the gap's: every frame posed in between added one.
+  const size_t end = records_.size() - 1;
+  if (end < size_t(gap) + 1) return;
+  const FrameRecord& a = records_[end - gap - 1];
+  const FrameRecord& b = records_[end];
+  if (a.timestamp != last_frame_->timestamp || !(b.timestamp > a.timestamp)) return;
+  const auto usable = [](const FrameRecord& r) { return r.reference && !r.reference->bad; };
+  if (!usable(a) || !usable(b)) return;
+  const Pose T_a = a.T_cr * a.reference->T_cw(), T_b = b.T_cr * b.reference->T_cw();
+  for (size_t k = end - gap; k < end; ++k) {
+    FrameRecord& r = records_[k];
+    if (!r.predicted || !usable(r)) continue;
+    const double s = (r.timestamp - a.timestamp) / (b.timestamp - a.timestamp);
+    r.T_cr = interpolatePose(T_a, T_b, s) * r.reference->T_wc();
+    r.predicted = false;
+  }
 }
 
 bool Tracker::poseJumped(const Pose& T_cw) const {

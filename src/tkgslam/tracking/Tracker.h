@@ -35,6 +35,8 @@ struct TrackResult {
   bool reanchored = false;
   /// The image is much less sharp than the frames before it (TrackingParams::blur_ratio).
   bool blurred = false;
+  /// Dynamic-object boxes cover most of the image (TrackingParams::covered_ratio).
+  bool covered = false;
   /// The tracked pose jumped away from the motion model's prediction (TrackingParams::max_jump_deg)
   /// and was not used; the frame was then bridged or lost like an untrackable one.
   bool jump_rejected = false;
@@ -46,6 +48,9 @@ struct FrameRecord {
   double timestamp = 0;
   std::shared_ptr<data::KeyFrame> reference;
   Pose T_cr = Pose::Identity();
+  /// The motion model's prediction (a bridged frame). Once a later frame is tracked, it is
+  /// replaced by the pose interpolated between the tracked frames either side of the bridge.
+  bool predicted = false;
 };
 
 /// Called once the frame has a pose from the keypoints outside the boxes; may re-admit or exclude
@@ -111,6 +116,9 @@ class Tracker {
   /// Constant-velocity prediction for the current frame: `gap_frames_ + 1` steps of the last
   /// velocity from the last frame tracked against.
   Pose predictPose() const;
+  /// Tracking resumed after `gap` frames posed without a new last frame: the predicted ones among
+  /// them get the pose interpolated (by timestamp) between the last frame and this one.
+  void interpolateBridgedRecords(int gap);
   /// The tracked pose is further from the constant-velocity prediction than a camera moves.
   bool poseJumped(const Pose& T_cw) const;
 
