@@ -85,6 +85,8 @@ TEST(ConfigFile, InvalidValuesAreClearErrors) {
   EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {refill_ratio: 1.2}").find("refill_ratio must be in [0, 1]"),
             std::string::npos);
   EXPECT_NE(errorOf(std::string(kMinimal) + "tracking: {max_jump_deg: .nan}").find("must be finite"), std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "tracking: {covered_ratio: 0}").find("covered_ratio must be > 0"),
+            std::string::npos);
   EXPECT_THROW(io::loadConfig("/nonexistent.yaml"), InputError);
 }
 
