@@ -258,7 +258,29 @@ TEST(FaultTolerance, MotionBlurredFramesAreBridgedAndMakeNoKeyframes) {
   }
   const auto traj = io::readTumTrajectory((tmp / "aware" / "trajectory.txt").string());
   EXPECT_EQ(traj.size(), 200u);
-  EXPECT_LT(eval::computeAte(gt, traj).stats.rmse, 0.03);
+  const auto ate = eval::computeAte(gt, traj);
+  EXPECT_LT(ate.stats.rmse, 0.03);
+  // The blurred frames' poses in the trajectory are interpolated between the sharp frames either
+  // side, not what tracking found on smeared keypoints: as good as the sharp frames' poses
+  // (measured: 0.0093 vs 0.0100 m; the tracked blurred poses were 0.0162 m).
+  std::vector<char> is_blurred(ate.timestamps.size(), 0);
+  for (int i = 1; i < 200; ++i) {
+    if (!shaken(i)) continue;
+    const double t = src.entry(i).rgb_timestamp;
+    const auto near = std::min_element(ate.timestamps.begin(), ate.timestamps.end(),
+                                       [&](double a, double b) { return std::abs(a - t) < std::abs(b - t); });
+    is_blurred[size_t(near - ate.timestamps.begin())] = 1;
+  }
+  double blurred_sq = 0, sharp_sq = 0;
+  int blurred_n = 0;
+  for (size_t k = 0; k < ate.timestamps.size(); ++k) {
+    (is_blurred[k] ? blurred_sq : sharp_sq) += ate.errors[k] * ate.errors[k];
+    blurred_n += is_blurred[k];
+  }
+  ASSERT_GT(blurred_n, 0);
+  const double blurred_rmse = std::sqrt(blurred_sq / blurred_n);
+  const double sharp_rmse = std::sqrt(sharp_sq / double(ate.timestamps.size() - blurred_n));
+  EXPECT_LT(blurred_rmse, 1.2 * sharp_rmse);
 }
 
 // A long stretch the map cannot explain - here the images mirrored left to right, a scene of their

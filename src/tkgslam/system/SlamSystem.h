@@ -132,7 +132,8 @@ class SlamSystem {
   /// (empty unless the mode has it and the boxes cover at least tau of the image).
   tracking::RefineKeypoints filterDynamic(PreparedFrame& frame, dynamic::BoxMask& box_mask, DynamicFrameInfo& info);
   /// Boxes cover much of the image: keeps the keypoints inside them (the geometry check may find
-  /// them static) and extracts the rest again outside them with the whole feature budget.
+  /// them static) and spends the whole feature budget outside them again, from the pyramid and
+  /// FAST corners prepare() kept (OrbExtractor::extractAgain).
   void refillOutsideBoxes(PreparedFrame& frame, const cv::Mat& box_mask);
   /// A late (asynchronous) detection shows where people were on frames already tracked: map
   /// points that keyframes of those frames created inside the boxes are erased, so tracking

@@ -48,9 +48,10 @@ struct FrameRecord {
   double timestamp = 0;
   std::shared_ptr<data::KeyFrame> reference;
   Pose T_cr = Pose::Identity();
-  /// The motion model's prediction (a bridged frame). Once a later frame is tracked, it is
-  /// replaced by the pose interpolated between the tracked frames either side of the bridge.
-  bool predicted = false;
+  /// The pose is provisional: the motion model's prediction (a bridged frame), or tracked on a
+  /// motion-blurred image (smeared keypoints). Once tracking resumes on a later frame it is
+  /// replaced by the pose interpolated between the frames tracked either side.
+  bool provisional = false;
 };
 
 /// Called once the frame has a pose from the keypoints outside the boxes; may re-admit or exclude
@@ -116,8 +117,8 @@ class Tracker {
   /// Constant-velocity prediction for the current frame: `gap_frames_ + 1` steps of the last
   /// velocity from the last frame tracked against.
   Pose predictPose() const;
-  /// Tracking resumed after `gap` frames posed without a new last frame: the predicted ones among
-  /// them get the pose interpolated (by timestamp) between the last frame and this one.
+  /// Tracking resumed after `gap` frames posed without a new last frame: the provisional ones
+  /// among them get the pose interpolated (by timestamp) between the last frame and this one.
   void interpolateBridgedRecords(int gap);
   /// The tracked pose is further from the constant-velocity prediction than a camera moves.
   bool poseJumped(const Pose& T_cw) const;
