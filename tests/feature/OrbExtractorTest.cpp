@@ -123,6 +123,7 @@ TEST(OrbExtractor, ExtractingAgainFromKeptDetectionsGivesExactlyWhatASecondExtra
   cv::Mat half;
   cv::resize(img, half, img.size() / 2);
   EXPECT_THROW(ex.extractAgain(detections, half, {}, first), InputError);
+  EXPECT_THROW(ex.extractAgain(detections, img, {}, feature::OrbFeatures{first.keypoints, cv::Mat()}), InputError);
 }
 
 TEST(OrbExtractor, RejectsBadParametersAndImages) {

@@ -287,6 +287,9 @@ OrbFeatures OrbExtractor::extractAgain(const OrbDetections& detections, const cv
       detections.levels[0].size() != gray.size()) {
     throw InputError("ORB extraction: the detections are not of this image");
   }
+  if (previous.descriptors.rows != int(previous.keypoints.size())) {
+    throw InputError("ORB extraction: the previous features need one descriptor per keypoint");
+  }
   // Keypoints are identified by level and position: the same corner gives the same keypoint.
   using Key = std::tuple<int, float, float>;
   std::map<Key, int> known;
