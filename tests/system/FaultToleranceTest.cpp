@@ -83,6 +83,13 @@ void writeFaultySequence(const fs::path& seq, int frames, const std::function<bo
   fs::copy_file(test::fr1xyz() / "groundtruth.txt", seq / "groundtruth.txt");
 }
 
+/// Index of the pose in `ate` nearest in time to `t`.
+size_t nearestPose(const eval::AteResult& ate, double t) {
+  const auto k = std::min_element(ate.timestamps.begin(), ate.timestamps.end(),
+                                  [&](double a, double b) { return std::abs(a - t) < std::abs(b - t); });
+  return size_t(k - ate.timestamps.begin());
+}
+
 std::string fr1Config() { return (test::sourceDir() / "configs/tum_fr1.yaml").string(); }
 
 /// Runs `tmp/seq` deterministically with the fr1 config plus `extra_config` (YAML appended) into
@@ -163,13 +170,7 @@ TEST(FaultTolerance, ShortUntrackableGapsAreBridgedByTheMotionModel) {
   for (int i : black) {
     EXPECT_NE(log.find(fmt::format("{:.6f} predicted", src.entry(i).rgb_timestamp)), std::string::npos) << i;
     // The predicted poses are where the camera was, to a few centimetres.
-    const size_t k = std::min_element(ate.timestamps.begin(), ate.timestamps.end(),
-                                      [&](double a, double b) {
-                                        return std::abs(a - src.entry(i).rgb_timestamp) <
-                                               std::abs(b - src.entry(i).rgb_timestamp);
-                                      }) -
-                     ate.timestamps.begin();
-    EXPECT_LT(ate.errors[k], 0.04) << "frame " << i;
+    EXPECT_LT(ate.errors[nearestPose(ate, src.entry(i).rgb_timestamp)], 0.04) << "frame " << i;
   }
 
   // Without the bridge (ORB-SLAM2's behaviour) the black frames are lost.
@@ -198,9 +199,7 @@ TEST(FaultTolerance, APoseJumpNoCameraMakesIsNotUsed) {
   const auto gt = io::readTumTrajectory((test::fr1xyz() / "groundtruth.txt").string());
   const auto errorAt = [&](const fs::path& out) {
     const auto ate = eval::computeAte(gt, io::readTumTrajectory((out / "trajectory.txt").string()));
-    const auto k = std::min_element(ate.timestamps.begin(), ate.timestamps.end(),
-                                    [&](double a, double b) { return std::abs(a - t) < std::abs(b - t); });
-    return ate.errors[size_t(k - ate.timestamps.begin())];
+    return ate.errors[nearestPose(ate, t)];
   };
 
   std::string out;
@@ -265,11 +264,7 @@ TEST(FaultTolerance, MotionBlurredFramesAreBridgedAndMakeNoKeyframes) {
   // (measured: 0.0093 vs 0.0100 m; the tracked blurred poses were 0.0162 m).
   std::vector<char> is_blurred(ate.timestamps.size(), 0);
   for (int i = 1; i < 200; ++i) {
-    if (!shaken(i)) continue;
-    const double t = src.entry(i).rgb_timestamp;
-    const auto near = std::min_element(ate.timestamps.begin(), ate.timestamps.end(),
-                                       [&](double a, double b) { return std::abs(a - t) < std::abs(b - t); });
-    is_blurred[size_t(near - ate.timestamps.begin())] = 1;
+    if (shaken(i)) is_blurred[nearestPose(ate, src.entry(i).rgb_timestamp)] = 1;
   }
   double blurred_sq = 0, sharp_sq = 0;
   int blurred_n = 0;

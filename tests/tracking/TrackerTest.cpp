@@ -22,7 +22,7 @@ struct FrameOutcome {
   Vec3 saved = Vec3::Zero();   ///< ... in the trajectory at the end of the run
 };
 
-Vec3 centreOf(const tracking::FrameRecord& r) { return (r.T_cr * r.reference->T_cw()).inverse().translation(); }
+Vec3 centreOf(const tracking::FrameRecord& r) { return r.T_cw().inverse().translation(); }
 
 /// Tracks the first `frames` frames; frames in [cover_from, cover_to) are covered by a person.
 std::vector<FrameOutcome> trackWithCover(double covered_ratio, int frames, int cover_from, int cover_to) {

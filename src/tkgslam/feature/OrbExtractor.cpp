@@ -20,6 +20,14 @@ constexpr int kEdgeThreshold = 19;                  // descriptor patch border
 constexpr int kFastBorder = kEdgeThreshold - 3;     // FAST needs 3 px around the centre
 constexpr int kCellSize = 30;
 
+/// The part of a level image where FAST corners are kept (a descriptor patch fits around them).
+struct FastArea {
+  int min_x, min_y, max_x, max_y;
+};
+FastArea fastArea(const cv::Mat& img) {
+  return {kFastBorder, kFastBorder, img.cols - kFastBorder, img.rows - kFastBorder};
+}
+
 struct QuadNode {
   std::vector<cv::KeyPoint> kps;
   float x0, x1, y0, y1;
@@ -160,8 +168,7 @@ OrbExtractor::OrbExtractor(const OrbParams& params) : params_(params) {
 }
 
 std::vector<cv::KeyPoint> OrbExtractor::detectCorners(const cv::Mat& img) const {
-  const int min_x = kFastBorder, min_y = kFastBorder;
-  const int max_x = img.cols - kFastBorder, max_y = img.rows - kFastBorder;
+  const auto [min_x, min_y, max_x, max_y] = fastArea(img);
   if (max_x - min_x < kCellSize / 2 || max_y - min_y < kCellSize / 2) return {};
   // One FAST pass at the low threshold; a corner's response is the highest threshold at which
   // it is still a corner, so "response >= high threshold" selects the high-threshold corners.
@@ -182,8 +189,7 @@ std::vector<cv::KeyPoint> OrbExtractor::detectCorners(const cv::Mat& img) const 
 std::vector<cv::KeyPoint> OrbExtractor::selectKeypoints(const cv::Mat& img, int level,
                                                         const std::vector<cv::KeyPoint>& all,
                                                         const cv::Mat& skip) const {
-  const int min_x = kFastBorder, min_y = kFastBorder;
-  const int max_x = img.cols - kFastBorder, max_y = img.rows - kFastBorder;
+  const auto [min_x, min_y, max_x, max_y] = fastArea(img);
   if (all.empty()) return {};
   const int cols = std::max(1, (max_x - min_x) / kCellSize);
   const int rows = std::max(1, (max_y - min_y) / kCellSize);

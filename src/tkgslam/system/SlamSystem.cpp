@@ -264,15 +264,7 @@ std::vector<FrameOutcome> SlamSystem::finish() {
 std::vector<StampedPose> SlamSystem::trajectory() const {
   std::lock_guard<std::mutex> lock(map_.mutex());
   std::vector<StampedPose> out;
-  for (const auto& rec : tracker_->records()) {
-    const data::KeyFrame* kf = rec.reference.get();
-    Pose T = rec.T_cr;
-    while (kf->bad && kf->parent) {  // culled reference: follow the spanning tree
-      T = T * kf->T_c_parent;
-      kf = kf->parent;
-    }
-    out.push_back({rec.timestamp, (T * kf->T_cw()).inverse()});
-  }
+  for (const auto& rec : tracker_->records()) out.push_back({rec.timestamp, rec.T_cw().inverse()});
   return out;
 }
 

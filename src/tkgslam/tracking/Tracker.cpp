@@ -19,6 +19,16 @@ Tracker::Tracker(data::Map& map, const camera::PinholeCamera& camera, const feat
     : map_(map), cam_(camera), pyr_(pyramid), cfg_(config), matcher_(camera, pyramid, config.depth.baseline_fx),
       K_(optimize::intrinsicsOf(camera.fx(), camera.fy(), camera.cx(), camera.cy(), config.depth.baseline_fx)) {}
 
+Pose FrameRecord::T_cw() const {
+  const data::KeyFrame* kf = reference.get();
+  Pose T = T_cr;
+  while (kf->bad && kf->parent) {
+    T = T * kf->T_c_parent;
+    kf = kf->parent;
+  }
+  return T * kf->T_cw();
+}
+
 TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, const RefineKeypoints& refine) {
   std::lock_guard<std::mutex> lock(map_.mutex());
   TrackResult result;
@@ -221,7 +231,7 @@ void Tracker::updateLastFrame() {
   // last frame's are motion-model predictions.)
   const auto rec = records_.end() - std::min<std::ptrdiff_t>(records_.size(), gap_frames_ + 1);
   if (rec != records_.end() && rec->reference && !rec->reference->bad) {
-    last.T_cw = orthonormalized(rec->T_cr * rec->reference->T_cw());
+    last.T_cw = orthonormalized(rec->T_cw());
   }
   if (last_kf_ && last_kf_->frame_id == last.id) return;
   // Temporary points from the last frame's depth help the next frame (as in ORB-SLAM2 RGB-D).
@@ -364,7 +374,7 @@ void Tracker::interpolateBridgedRecords(int gap) {
   if (a.timestamp != last_frame_->timestamp || !(b.timestamp > a.timestamp)) return;
   const auto usable = [](const FrameRecord& r) { return r.reference && !r.reference->bad; };
   if (!usable(a) || !usable(b)) return;
-  const Pose T_a = a.T_cr * a.reference->T_cw(), T_b = b.T_cr * b.reference->T_cw();
+  const Pose T_a = a.T_cw(), T_b = b.T_cw();
   for (size_t k = end - gap; k < end; ++k) {
     FrameRecord& r = records_[k];
     if (!r.provisional || !usable(r)) continue;

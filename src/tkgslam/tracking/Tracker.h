@@ -52,6 +52,10 @@ struct FrameRecord {
   /// motion-blurred image (smeared keypoints). Once tracking resumes on a later frame it is
   /// replaced by the pose interpolated between the frames tracked either side.
   bool provisional = false;
+
+  /// World -> camera pose through the reference keyframe as it is now; a culled reference is
+  /// replaced by its spanning-tree parent.
+  Pose T_cw() const;
 };
 
 /// Called once the frame has a pose from the keypoints outside the boxes; may re-admit or exclude
