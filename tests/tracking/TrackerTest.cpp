@@ -89,5 +89,30 @@ TEST(Tracker, FramesAPersonFillsAreBridgedAsLongAsBlurredOnesNearWhereTheCameraW
   for (int i = kTo; i < kFrames; ++i) EXPECT_TRUE(bridged[i].tracked && !bridged[i].predicted) << i;
 }
 
+TEST(Tracker, FramesBridgedBeforeALossAreInterpolatedOnceRelocalisationFindsTheCamera) {
+  TKGSLAM_REQUIRE_SHARED();
+  // 11 covered frames: the first 3 x max_predicted_frames (9) are bridged, the last 2 lost; the
+  // first uncovered frame relocalises.
+  const int bridge = 3 * fr1Config().tracking.max_predicted_frames;
+  const int kFrames = 70, kFrom = 40, kTo = kFrom + bridge + 2;
+  const auto clear = trackWithCover(0.9, kFrames, kFrames, kFrames);
+  const auto lost = trackWithCover(0.9, kFrames, kFrom, kTo);
+  double online_error = 0, saved_error = 0;
+  for (int i = kFrom; i < kTo; ++i) {
+    ASSERT_TRUE(clear[i].tracked) << i;
+    if (i >= kFrom + bridge) {
+      EXPECT_FALSE(lost[i].tracked) << i;
+      continue;
+    }
+    ASSERT_TRUE(lost[i].tracked && lost[i].predicted) << i;
+    online_error += (lost[i].online - clear[i].online).norm();
+    saved_error += (lost[i].saved - clear[i].saved).norm();
+    EXPECT_LT((lost[i].saved - clear[i].saved).norm(), 0.015) << i;
+  }
+  ASSERT_TRUE(lost[kTo].tracked && !lost[kTo].predicted);
+  // Without the interpolation the saved poses are the extrapolated ones (saved == online).
+  EXPECT_LT(saved_error, 0.8 * online_error) << "online " << online_error << " m, saved " << saved_error << " m";
+}
+
 }  // namespace
 }  // namespace tkgslam

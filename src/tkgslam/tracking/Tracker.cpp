@@ -88,6 +88,7 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
   const int max_gap = 3 * cfg_.tracking.max_predicted_frames;
   if (ok) {
     state_ = TrackingState::Ok;
+    const int lost_frames = lost_frames_;
     lost_frames_ = 0;
     // Temporary visual-odometry points are not map points; forget them.
     for (int i = 0; i < frame.size(); ++i) {
@@ -124,7 +125,16 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     }
     if (!frame.reference) frame.reference = reference_kf_;
     records_.push_back({frame.timestamp, frame.reference, frame.T_cw * frame.reference->T_wc()});
-    if (gap > 0) interpolateBridgedRecords(gap);
+    if (gap > 0) {
+      interpolateBridgedRecords(gap);
+    } else if (after_loss && lost_frames <= cfg_.tracking.relocalization_attempts) {
+      // Relocalised soon after a loss: frames bridged before it still hold the motion model's
+      // extrapolation, which drifts with every frame (very_high_s32: 21 cm after 9 frames). They
+      // are interpolated like a gap that ends in a tracked frame.
+      size_t tail = 0;
+      while (tail + 1 < records_.size() && records_[records_.size() - 2 - tail].provisional) ++tail;
+      if (tail > 0) interpolateBridgedRecords(int(tail));
+    }
     result.tracked = true;
     result.inliers = matches_inliers_;
     last_frame_ = std::make_unique<Frame>(std::move(frame));
