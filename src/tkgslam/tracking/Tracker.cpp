@@ -129,7 +129,7 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
       interpolateBridgedRecords(gap);
     } else if (after_loss && lost_frames <= cfg_.tracking.relocalization_attempts) {
       // Relocalised soon after a loss: frames bridged before it still hold the motion model's
-      // extrapolation, which drifts with every frame (very_high_s32: 21 cm after 9 frames). They
+      // extrapolation, which drifts with every frame (extreme_s32 composite: 26 cm after 10). They
       // are interpolated like a gap that ends in a tracked frame.
       size_t tail = 0;
       while (tail + 1 < records_.size() && records_[records_.size() - 2 - tail].provisional) ++tail;
