@@ -110,7 +110,8 @@ TEST(Tracker, FramesBridgedBeforeALossAreInterpolatedOnceRelocalisationFindsTheC
     EXPECT_LT((lost[i].saved - clear[i].saved).norm(), 0.015) << i;
   }
   ASSERT_TRUE(lost[kTo].tracked && !lost[kTo].predicted);
-  // Without the interpolation the saved poses are the extrapolated ones (saved == online).
+  // Without the interpolation the saved poses stay the extrapolated ones (measured: 0.094 m summed
+  // against 0.095 m online; bundle adjustment moves their reference keyframe a little).
   EXPECT_LT(saved_error, 0.8 * online_error) << "online " << online_error << " m, saved " << saved_error << " m";
 }
 
