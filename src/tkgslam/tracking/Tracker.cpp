@@ -125,16 +125,9 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     }
     if (!frame.reference) frame.reference = reference_kf_;
     records_.push_back({frame.timestamp, frame.reference, frame.T_cw * frame.reference->T_wc()});
-    if (gap > 0) {
-      interpolateBridgedRecords(gap);
-    } else if (after_loss && lost_frames <= cfg_.tracking.relocalization_attempts) {
-      // Relocalised soon after a loss: frames bridged before it still hold the motion model's
-      // extrapolation, which drifts with every frame (extreme_s32 composite: 26 cm after 10). They
-      // are interpolated like a gap that ends in a tracked frame.
-      size_t tail = 0;
-      while (tail + 1 < records_.size() && records_[records_.size() - 2 - tail].provisional) ++tail;
-      if (tail > 0) interpolateBridgedRecords(int(tail));
-    }
+    // Also when relocalised soon after a loss: frames bridged before it still hold the motion
+    // model's extrapolation, which drifts with every frame (extreme_s32 composite: 26 cm after 10).
+    if (gap > 0 || (after_loss && lost_frames <= cfg_.tracking.relocalization_attempts)) interpolateBridgedRecords();
     result.tracked = true;
     result.inliers = matches_inliers_;
     last_frame_ = std::make_unique<Frame>(std::move(frame));
@@ -375,10 +368,13 @@ Pose Tracker::predictPose() const {
   return orthonormalized(T);
 }
 
-void Tracker::interpolateBridgedRecords(int gap) {
-  // The records since the last frame are exactly the gap's: every frame posed in between added one.
+void Tracker::interpolateBridgedRecords() {
+  // The records since the last frame are the provisional ones before this frame's: every frame
+  // posed in between (bridged or blurred) added one; lost frames add none.
   const size_t end = records_.size() - 1;
-  if (end < size_t(gap) + 1) return;
+  size_t gap = 0;
+  while (gap + 1 <= end && records_[end - 1 - gap].provisional) ++gap;
+  if (gap == 0 || end < gap + 1) return;
   const FrameRecord& a = records_[end - gap - 1];
   const FrameRecord& b = records_[end];
   if (a.timestamp != last_frame_->timestamp || !(b.timestamp > a.timestamp)) return;

@@ -121,9 +121,9 @@ class Tracker {
   /// Constant-velocity prediction for the current frame: `gap_frames_ + 1` steps of the last
   /// velocity from the last frame tracked against.
   Pose predictPose() const;
-  /// Tracking resumed after `gap` frames posed without a new last frame: the provisional ones
-  /// among them get the pose interpolated (by timestamp) between the last frame and this one.
-  void interpolateBridgedRecords(int gap);
+  /// Tracking resumed (or relocalised) after frames posed without a new last frame: their
+  /// provisional records get the pose interpolated (by timestamp) between the last frame and this one.
+  void interpolateBridgedRecords();
   /// The tracked pose is further from the constant-velocity prediction than a camera moves.
   bool poseJumped(const Pose& T_cw) const;
 
