@@ -64,6 +64,26 @@ TEST(OrbExtractor, DescriptorsAreRotationInvariantAndDeterministic) {
   EXPECT_GT(good, tested * 0.4) << good << " of " << tested;
 }
 
+TEST(OrbExtractor, DescriptorsAreOpenCvsOrbOnTheFullImageAtEachKeypointsOctave) {
+  // The extractor describes each level's keypoints on the level image it already has; OpenCV's
+  // ORB given the full image builds its own pyramid for that. Both must give the same bits.
+  TKGSLAM_REQUIRE_SHARED();
+  const cv::Mat img = firstImage();
+  const feature::OrbParams params;
+  feature::OrbExtractor ex(params);
+  const auto f = ex.extract(img);
+  auto orb = cv::ORB::create(params.features, float(params.scale_factor), params.levels, 16, 0, 2,
+                             cv::ORB::FAST_SCORE, 31, params.fast_threshold);
+  std::vector<cv::KeyPoint> kps = f.keypoints;
+  cv::Mat expected;
+  orb->compute(img, kps, expected);
+  ASSERT_EQ(kps.size(), f.keypoints.size());
+  ASSERT_EQ(expected.size(), f.descriptors.size());
+  int differing = 0;
+  for (int i = 0; i < expected.rows; ++i) differing += cv::norm(expected.row(i), f.descriptors.row(i), cv::NORM_HAMMING) > 0;
+  EXPECT_EQ(differing, 0) << "of " << expected.rows;
+}
+
 TEST(OrbExtractor, ASkipMaskSendsTheWholeBudgetElsewhere) {
   TKGSLAM_REQUIRE_SHARED();
   const cv::Mat img = firstImage();

@@ -46,13 +46,13 @@ std::optional<BoxTracker::Moved> BoxPipeline::flowTo(long frame) const {
   return flow_.propagate(*from, *to, tracker_.lastBoxes());
 }
 
-void BoxPipeline::beginFrame(long index, const cv::Mat& bgr, const cv::Mat& depth_m) {
+void BoxPipeline::beginFrame(long index, const cv::Mat& bgr, const cv::Mat& depth_m, const cv::Mat& gray) {
   index_ = index;
   image_ = bgr.size();
   begin_timings_ = {};
   if (schedule_.use_kalman && schedule_.use_flow) {
     const auto tf = std::chrono::steady_clock::now();
-    flow_frames_.emplace_back(index, flow_.prepare(bgr, depth_m));
+    flow_frames_.emplace_back(index, flow_.prepare(gray.empty() ? bgr : gray, depth_m));
     // Kept: frame index - latency - 1 (before the oldest detection that can still be rewound to);
     // lookahead: from the last final frame on (the box tracker is there).
     const long keep_from = schedule_.lookahead ? final_through_ : index - schedule_.latency - 1;

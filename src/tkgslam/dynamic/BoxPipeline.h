@@ -67,8 +67,9 @@ class BoxPipeline {
 
   /// Starts frame `index` (indices increase by one per frame): consumes a detection that is due
   /// and launches the detector on `bgr` if the schedule says so. Call before feature extraction.
-  /// `depth_m` (CV_32F metres, may be empty) lets the optical flow follow the nearest surface.
-  void beginFrame(long index, const cv::Mat& bgr, const cv::Mat& depth_m = {});
+  /// `depth_m` (CV_32F metres, may be empty) lets the optical flow follow the nearest surface;
+  /// `gray` (8-bit, may be empty) is `bgr` in grey if the caller has it (the flow runs on grey).
+  void beginFrame(long index, const cv::Mat& bgr, const cv::Mat& depth_m = {}, const cv::Mat& gray = {});
   /// The boxes for the frame begun last, clipped to the image.
   std::vector<Detection> frameBoxes(cv::Size image, BoxTimings& timings);
 

@@ -235,9 +235,27 @@ std::vector<cv::KeyPoint> OrbExtractor::selectKeypoints(const cv::Mat& img, int 
     kp.angle = angle;
     kp.octave = level;
     kp.size = float(kPatchSize * pyramid_.scales[level]);
-    kp.pt *= float(pyramid_.scales[level]);  // to level-0 coordinates
   }
   return kps;
+}
+
+cv::Mat OrbExtractor::describeLevel(const cv::Mat& level_image, const std::vector<cv::KeyPoint>& kps) const {
+  if (kps.empty()) return cv::Mat(0, 32, CV_8U);
+  // cv::ORB on the level image itself, the keypoints as its level 0: the same descriptors as from
+  // the full image at their octave (it would resize the image to that level exactly as extract()
+  // did, then blur it), without building the pyramid again.
+  std::vector<cv::KeyPoint> at_level = kps;
+  for (auto& kp : at_level) kp.octave = 0;
+  cv::Mat descriptors;
+  descriptor_->compute(level_image, at_level, descriptors);
+  if (at_level.size() != kps.size()) {
+    throw std::logic_error("ORB descriptor computation dropped keypoints");  // border mismatch
+  }
+  return descriptors;
+}
+
+void OrbExtractor::toLevelZero(std::vector<cv::KeyPoint>& kps, int level) const {
+  for (auto& kp : kps) kp.pt *= float(pyramid_.scales[level]);
 }
 
 void OrbExtractor::checkInputs(const cv::Mat& gray, const cv::Mat& skip) const {
@@ -247,25 +265,12 @@ void OrbExtractor::checkInputs(const cv::Mat& gray, const cv::Mat& skip) const {
   }
 }
 
-namespace {
-void describe(const cv::Ptr<cv::ORB>& descriptor, const cv::Mat& gray, OrbFeatures& f) {
-  if (f.keypoints.empty()) {
-    f.descriptors = cv::Mat(0, 32, CV_8U);
-    return;
-  }
-  // cv::ORB keeps keypoints that are already in level order in their order.
-  const size_t n = f.keypoints.size();
-  descriptor->compute(gray, f.keypoints, f.descriptors);
-  if (f.keypoints.size() != n) {
-    throw std::logic_error("ORB descriptor computation dropped keypoints");  // border mismatch
-  }
-}
-}  // namespace
 
 OrbFeatures OrbExtractor::extract(const cv::Mat& gray, const cv::Mat& skip, OrbDetections* detections) const {
   checkInputs(gray, skip);
   OrbFeatures out;
   if (detections) *detections = {};
+  std::vector<cv::Mat> descriptors;
   cv::Mat level_img = gray;
   for (int l = 0; l < params_.levels; ++l) {
     if (l > 0) {
@@ -276,13 +281,15 @@ OrbFeatures OrbExtractor::extract(const cv::Mat& gray, const cv::Mat& skip, OrbD
     }
     auto corners = detectCorners(level_img);
     auto kps = selectKeypoints(level_img, l, corners, skip);
+    descriptors.push_back(describeLevel(level_img, kps));
+    toLevelZero(kps, l);
     out.keypoints.insert(out.keypoints.end(), kps.begin(), kps.end());
     if (detections) {
       detections->levels.push_back(level_img);
       detections->corners.push_back(std::move(corners));
     }
   }
-  describe(descriptor_, gray, out);
+  cv::vconcat(descriptors, out.descriptors);
   return out;
 }
 
@@ -303,21 +310,29 @@ OrbFeatures OrbExtractor::extractAgain(const OrbDetections& detections, const cv
     const auto& kp = previous.keypoints[i];
     known.emplace(Key{kp.octave, kp.pt.x, kp.pt.y}, int(i));
   }
-  OrbFeatures out, fresh;
-  std::vector<int> reused;  // per output keypoint: row of previous.descriptors, or -1
+  OrbFeatures out;
+  std::vector<cv::Mat> rows;
   for (int l = 0; l < params_.levels; ++l) {
-    for (auto& kp : selectKeypoints(detections.levels[l], l, detections.corners[l], skip)) {
+    auto kps = selectKeypoints(detections.levels[l], l, detections.corners[l], skip);
+    std::vector<cv::KeyPoint> fresh;  // not in `previous`: described here (level coordinates)
+    for (const auto& kp : kps) {
+      cv::KeyPoint at0 = kp;
+      at0.pt *= float(pyramid_.scales[l]);
+      if (known.find(Key{at0.octave, at0.pt.x, at0.pt.y}) == known.end()) fresh.push_back(kp);
+    }
+    const cv::Mat fresh_descriptors = describeLevel(detections.levels[l], fresh);
+    toLevelZero(kps, l);
+    int next_fresh = 0;
+    for (const auto& kp : kps) {
       const auto it = known.find(Key{kp.octave, kp.pt.x, kp.pt.y});
-      reused.push_back(it == known.end() ? -1 : it->second);
-      if (it == known.end()) fresh.keypoints.push_back(kp);
+      rows.push_back(it != known.end() ? previous.descriptors.row(it->second) : fresh_descriptors.row(next_fresh++));
       out.keypoints.push_back(kp);
     }
   }
-  describe(descriptor_, gray, fresh);
-  out.descriptors.create(int(out.keypoints.size()), 32, CV_8U);
-  for (int i = 0, next_fresh = 0; i < int(out.keypoints.size()); ++i) {
-    const cv::Mat src = reused[i] >= 0 ? previous.descriptors.row(reused[i]) : fresh.descriptors.row(next_fresh++);
-    src.copyTo(out.descriptors.row(i));
+  if (rows.empty()) {
+    out.descriptors = cv::Mat(0, 32, CV_8U);
+  } else {
+    cv::vconcat(rows, out.descriptors);
   }
   return out;
 }

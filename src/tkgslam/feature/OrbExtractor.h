@@ -58,9 +58,13 @@ class OrbExtractor {
   /// All FAST corners of a level image at the low threshold, inside the border.
   std::vector<cv::KeyPoint> detectCorners(const cv::Mat& level_image) const;
   /// The level's share of keypoints among `corners` outside `skip`: strong corners where a cell
-  /// has them, spread by the quadtree, oriented; returned in level-0 coordinates.
+  /// has them, spread by the quadtree, oriented; returned in the level's pixel coordinates.
   std::vector<cv::KeyPoint> selectKeypoints(const cv::Mat& level_image, int level,
                                             const std::vector<cv::KeyPoint>& corners, const cv::Mat& skip) const;
+  /// rBRIEF descriptors (one 32-byte row each) of keypoints in a level image's coordinates.
+  cv::Mat describeLevel(const cv::Mat& level_image, const std::vector<cv::KeyPoint>& kps) const;
+  /// Level pixel coordinates to level-0 ones.
+  void toLevelZero(std::vector<cv::KeyPoint>& kps, int level) const;
   void checkInputs(const cv::Mat& gray, const cv::Mat& skip) const;
 
   OrbParams params_;

@@ -152,7 +152,7 @@ SlamSystem::PreparedFrame SlamSystem::prepare(const io::RgbdImages& images) {
   f.images = images;
   // A scheduled detection runs on its own thread while this one extracts ORB features.
   if (boxes_) {
-    boxes_->beginFrame(f.index, images.bgr, images.depth_m);
+    boxes_->beginFrame(f.index, images.bgr, images.depth_m, images.gray);
     if (config_.dynamic.late_culling) f.late_culled = cullLateDynamicPoints(boxes_->takeLateBoxes(), images.bgr.size());
   }
   // Dynamic modes keep the pyramid and FAST corners: boxes over much of the image get the
