@@ -6,7 +6,7 @@
 #                                           (re)run, e.g. "static high"; default all), SEEDS, SEEDED
 # Every run uses --deterministic, so one run per cell is the median of any number of runs. What a
 # single composite cannot show is how much a difference between modes depends on where the people
-# happen to walk: SEEDS="22 32" adds replicas of the SEEDED composites (default "high very_high extreme")
+# happen to walk: SEEDS="22 32" adds replicas of the SEEDED composites (default "high very_high high_blur high_shake extreme")
 # built with those seeds (named e.g. high_s22), and the tables get their mean and spread.
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -30,7 +30,7 @@ COMPOSITES=(
   "high_shake|--count 3 --min-size 0.6 --max-size 0.95 --speed 0.4 --blur 0.3 --seed 13"
   "extreme|--count 4 --min-size 0.8 --max-size 1.1 --speed 0.4 --seed 12"
 )
-SEEDED=${SEEDED:-"high very_high extreme"}
+SEEDED=${SEEDED:-"high very_high high_blur high_shake extreme"}
 for c in "${COMPOSITES[@]}"; do
   name=${c%%|*}; opts=${c#*|}
   [[ " $SEEDED " == *" $name "* ]] || continue
