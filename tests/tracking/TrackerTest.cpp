@@ -16,7 +16,7 @@ namespace {
 SlamConfig fr1Config() { return io::loadConfig((test::sourceDir() / "configs/tum_fr1.yaml").string()); }
 
 struct FrameOutcome {
-  bool tracked = false, predicted = false, covered = false;
+  bool tracked = false, predicted = false, covered = false, keyframe = false;
   double timestamp = 0;
   Vec3 online = Vec3::Zero();  ///< camera centre when the frame was tracked (world, metres)
   Vec3 saved = Vec3::Zero();   ///< ... in the trajectory at the end of the run
@@ -25,10 +25,13 @@ struct FrameOutcome {
 Vec3 centreOf(const tracking::FrameRecord& r) { return r.T_cw().inverse().translation(); }
 
 /// Tracks the first `frames` frames; frames in [cover_from, cover_to) are covered by a person.
-std::vector<FrameOutcome> trackWithCover(double covered_ratio, int frames, int cover_from, int cover_to) {
+/// With `readmit_every` > 0 a geometry check on the covered frames re-admits every n-th keypoint.
+std::vector<FrameOutcome> trackWithCover(double covered_ratio, int frames, int cover_from, int cover_to,
+                                         int readmit_every = 0, int min_rescued_inliers = -1) {
   SlamConfig config = fr1Config();
   config.deterministic = true;
   config.tracking.covered_ratio = covered_ratio;
+  if (min_rescued_inliers >= 0) config.tracking.min_rescued_inliers = min_rescued_inliers;
   const camera::PinholeCamera camera(config.camera);
   const feature::OrbExtractor extractor(config.orb);
   data::Map map;
@@ -47,9 +50,17 @@ std::vector<FrameOutcome> trackWithCover(double covered_ratio, int frames, int c
       std::fill(features->excluded.begin(), features->excluded.end(), 1);
       frame.box_cover = 1.0;
     }
-    const auto r = tracker.track(std::move(frame), mapping.idle(), mapping.queued(), {});
+    tracking::RefineKeypoints readmit;
+    if (covered && readmit_every > 0) {
+      readmit = [readmit_every](data::Frame& f, const std::vector<std::shared_ptr<data::KeyFrame>>&) {
+        int n = 0;
+        for (int k = 0; k < f.size(); k += readmit_every, ++n) f.features->excluded[k] = 0;
+        return n;
+      };
+    }
+    const auto r = tracker.track(std::move(frame), mapping.idle(), mapping.queued(), readmit);
     if (r.new_keyframe) mapping.insert(r.new_keyframe);
-    FrameOutcome o{r.tracked, r.predicted, r.covered, images.timestamp};
+    FrameOutcome o{r.tracked, r.predicted, r.covered, r.new_keyframe != nullptr, images.timestamp};
     if (r.tracked) o.online = centreOf(tracker.records().back());
     out.push_back(o);
   }
@@ -113,6 +124,33 @@ TEST(Tracker, FramesBridgedBeforeALossAreInterpolatedOnceRelocalisationFindsTheC
   // Without the interpolation the saved poses stay the extrapolated ones (measured: 0.094 m summed
   // against 0.095 m online; bundle adjustment moves their reference keyframe a little).
   EXPECT_LT(saved_error, 0.8 * online_error) << "online " << online_error << " m, saved " << saved_error << " m";
+}
+
+TEST(Tracker, FramesOnlyReadmittedKeypointsTrackNeedMoreInliersAndMakeNoKeyframes) {
+  TKGSLAM_REQUIRE_SHARED();
+  // Frames 40-69 covered; the geometry check re-admits keypoints inside the boxes, which it judged
+  // with the predicted pose - the tracked pose then has no support of its own.
+  constexpr int kFrames = 75, kFrom = 40, kTo = 70;
+  constexpr int kNeed = 60;  // twice min_tracked_inliers
+  int keyframes_off = 0, keyframes_on = 0;
+  {
+    const auto off = trackWithCover(0.9, kFrames, kFrom, kTo, 1, 0);  // all re-admitted, rule off
+    const auto on = trackWithCover(0.9, kFrames, kFrom, kTo, 1, kNeed);
+    for (int i = kFrom; i < kTo; ++i) {
+      EXPECT_TRUE(on[i].tracked && !on[i].predicted) << i;  // plenty of inliers: tracked
+      keyframes_off += off[i].keyframe;
+      keyframes_on += on[i].keyframe;
+    }
+  }
+  EXPECT_GT(keyframes_off, 0);
+  EXPECT_EQ(keyframes_on, 0);
+  // One keypoint in 12 re-admitted on one covered frame: 40 inliers, enough for
+  // min_tracked_inliers (30), not for the 60 asked of such a frame, so it is bridged instead.
+  const auto sparse_off = trackWithCover(0.9, kFrames, kFrom, kFrom + 1, 12, 0);
+  const auto sparse_on = trackWithCover(0.9, kFrames, kFrom, kFrom + 1, 12, kNeed);
+  EXPECT_TRUE(sparse_off[kFrom].tracked && !sparse_off[kFrom].predicted);
+  EXPECT_TRUE(sparse_on[kFrom].tracked && sparse_on[kFrom].predicted);
+  for (int i = kFrom + 1; i < kFrames; ++i) EXPECT_TRUE(sparse_on[i].tracked && !sparse_on[i].predicted) << i;
 }
 
 }  // namespace

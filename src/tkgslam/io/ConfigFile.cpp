@@ -164,6 +164,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     s.get("max_jump_deg", c.tracking.max_jump_deg);
     s.get("max_jump_m", c.tracking.max_jump_m);
     s.get("covered_ratio", c.tracking.covered_ratio);
+    s.get("min_rescued_inliers", c.tracking.min_rescued_inliers);
     s.checkNoUnknownKeys();
     require(c.tracking.min_init_features >= 10, source, "tracking.min_init_features must be >= 10");
     require(c.tracking.min_tracked_inliers >= 6, source, "tracking.min_tracked_inliers must be >= 6");
@@ -174,6 +175,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
             "tracking.max_predicted_frames must be in [0, 30]");
     require(c.tracking.blur_ratio >= 0 && c.tracking.blur_ratio < 1, source, "tracking.blur_ratio must be in [0, 1)");
     require(c.tracking.covered_ratio > 0, source, "tracking.covered_ratio must be > 0 (> 1 = off)");
+    require(c.tracking.min_rescued_inliers >= 0, source, "tracking.min_rescued_inliers must be >= 0 (0 = off)");
   }
   {
     Section s(root, "mapping", source, false);

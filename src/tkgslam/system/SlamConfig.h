@@ -39,6 +39,13 @@ struct TrackingParams {
   /// the view) is expected to fail like a blurred one: when it cannot be tracked, its prediction
   /// does not count against max_predicted_frames either. > 1 = off.
   double covered_ratio = 0.9;
+  /// A frame that only the keypoints the geometry check re-admitted inside the boxes can track
+  /// (too few matches outside them) needs at least this many local-map inliers, else it is treated
+  /// as untrackable, and it makes no keyframe: the check re-admitted them using the predicted
+  /// pose, so the tracked pose has no independent support. 0 = off: such frames are like any
+  /// other. Off by default: 60 helps synchronous TKG on the extreme composites a lot but makes the
+  /// lookahead modes lose tracking more often (bench/results/extreme_sensitivity_300.md).
+  int min_rescued_inliers = 0;
 };
 
 struct MappingParams {

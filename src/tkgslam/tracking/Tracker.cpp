@@ -44,6 +44,7 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
   }
 
   bool ok = false;
+  bool rescued = false;
   // A velocity needs two consecutive tracked frames (not one across a relocalisation gap).
   const bool after_loss = state_ == TrackingState::Lost;
   if (state_ == TrackingState::Ok) {
@@ -71,8 +72,18 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
       for (int i = 0; i < frame.size(); ++i) {
         if (frame.features->excluded[i]) frame.map_points[i].reset();
       }
+      const bool tracked_outside = ok;
       if (!ok) ok = trackWithMotionModel(frame) || trackReferenceKeyFrame(frame);
       if (ok) ok = trackLocalMap(frame);
+      if (ok && !tracked_outside && cfg_.tracking.min_rescued_inliers > 0) {
+        // Only the re-admitted keypoints track this frame, and the check re-admitted them using the
+        // predicted pose: no independent support. Such poses drifted 2-9 cm per frame on the
+        // extreme composites, and keyframes made from them passed the error on to the next.
+        rescued = true;
+        ok = matches_inliers_ >= cfg_.tracking.min_rescued_inliers;
+        spdlog::debug("frame {}: tracked only by re-admitted keypoints, {} inliers (need {})", frame.id,
+                      matches_inliers_, cfg_.tracking.min_rescued_inliers);
+      }
     }
   }
 
@@ -116,7 +127,8 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     predicted_frames_ = 0;
     // (A blurred frame gets here after a long run of them: it becomes the frame to match against,
     // but still no keyframe.)
-    if (!result.blurred && needNewKeyFrame(frame, mapper_idle, mapper_queue)) {
+    // (Nor a frame tracked only by re-admitted keypoints: see above.)
+    if (!result.blurred && !rescued && needNewKeyFrame(frame, mapper_idle, mapper_queue)) {
       result.new_keyframe = createKeyFrame(frame);
     }
     if (result.new_keyframe && !anchor_candidates_.empty()) result.reanchored = reanchorSegment(frame);
