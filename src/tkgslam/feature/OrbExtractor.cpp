@@ -289,7 +289,11 @@ OrbFeatures OrbExtractor::extract(const cv::Mat& gray, const cv::Mat& skip, OrbD
       detections->corners.push_back(std::move(corners));
     }
   }
-  cv::vconcat(descriptors, out.descriptors);
+  if (out.keypoints.empty()) {
+    out.descriptors = cv::Mat(0, 32, CV_8U);
+  } else {
+    cv::vconcat(descriptors, out.descriptors);
+  }
   return out;
 }
 
@@ -313,21 +317,21 @@ OrbFeatures OrbExtractor::extractAgain(const OrbDetections& detections, const cv
   OrbFeatures out;
   std::vector<cv::Mat> rows;
   for (int l = 0; l < params_.levels; ++l) {
-    auto kps = selectKeypoints(detections.levels[l], l, detections.corners[l], skip);
-    std::vector<cv::KeyPoint> fresh;  // not in `previous`: described here (level coordinates)
-    for (const auto& kp : kps) {
-      cv::KeyPoint at0 = kp;
-      at0.pt *= float(pyramid_.scales[l]);
-      if (known.find(Key{at0.octave, at0.pt.x, at0.pt.y}) == known.end()) fresh.push_back(kp);
+    const auto kps = selectKeypoints(detections.levels[l], l, detections.corners[l], skip);
+    auto at0 = kps;
+    toLevelZero(at0, l);
+    std::vector<int> reused;          // per keypoint: row of previous.descriptors, or -1
+    std::vector<cv::KeyPoint> fresh;  // the others, described here (level coordinates)
+    for (size_t k = 0; k < kps.size(); ++k) {
+      const auto it = known.find(Key{at0[k].octave, at0[k].pt.x, at0[k].pt.y});
+      reused.push_back(it == known.end() ? -1 : it->second);
+      if (it == known.end()) fresh.push_back(kps[k]);
     }
     const cv::Mat fresh_descriptors = describeLevel(detections.levels[l], fresh);
-    toLevelZero(kps, l);
-    int next_fresh = 0;
-    for (const auto& kp : kps) {
-      const auto it = known.find(Key{kp.octave, kp.pt.x, kp.pt.y});
-      rows.push_back(it != known.end() ? previous.descriptors.row(it->second) : fresh_descriptors.row(next_fresh++));
-      out.keypoints.push_back(kp);
+    for (size_t k = 0, next_fresh = 0; k < kps.size(); ++k) {
+      rows.push_back(reused[k] >= 0 ? previous.descriptors.row(reused[k]) : fresh_descriptors.row(int(next_fresh++)));
     }
+    out.keypoints.insert(out.keypoints.end(), at0.begin(), at0.end());
   }
   if (rows.empty()) {
     out.descriptors = cv::Mat(0, 32, CV_8U);
