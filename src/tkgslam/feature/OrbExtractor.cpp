@@ -34,6 +34,16 @@ struct QuadNode {
   bool leaf() const { return kps.size() <= 1; }
 };
 
+/// Descriptor rows stacked in order; 0 x 32 when there are none (vconcat needs at least one row).
+cv::Mat stackDescriptors(const std::vector<cv::Mat>& parts) {
+  int rows = 0;
+  for (const auto& p : parts) rows += p.rows;
+  if (rows == 0) return cv::Mat(0, 32, CV_8U);
+  cv::Mat out;
+  cv::vconcat(parts, out);
+  return out;
+}
+
 void splitNode(const QuadNode& n, QuadNode out[4]) {
   const float xm = 0.5f * (n.x0 + n.x1), ym = 0.5f * (n.y0 + n.y1);
   out[0] = {{}, n.x0, xm, n.y0, ym};
@@ -289,11 +299,7 @@ OrbFeatures OrbExtractor::extract(const cv::Mat& gray, const cv::Mat& skip, OrbD
       detections->corners.push_back(std::move(corners));
     }
   }
-  if (out.keypoints.empty()) {
-    out.descriptors = cv::Mat(0, 32, CV_8U);
-  } else {
-    cv::vconcat(descriptors, out.descriptors);
-  }
+  out.descriptors = stackDescriptors(descriptors);
   return out;
 }
 
@@ -333,11 +339,7 @@ OrbFeatures OrbExtractor::extractAgain(const OrbDetections& detections, const cv
     }
     out.keypoints.insert(out.keypoints.end(), at0.begin(), at0.end());
   }
-  if (rows.empty()) {
-    out.descriptors = cv::Mat(0, 32, CV_8U);
-  } else {
-    cv::vconcat(rows, out.descriptors);
-  }
+  out.descriptors = stackDescriptors(rows);
   return out;
 }
 

@@ -385,8 +385,8 @@ void Tracker::interpolateBridgedRecords() {
   // posed in between (bridged or blurred) added one; lost frames add none.
   const size_t end = records_.size() - 1;
   size_t gap = 0;
-  while (gap + 1 <= end && records_[end - 1 - gap].provisional) ++gap;
-  if (gap == 0 || end < gap + 1) return;
+  while (gap < end && records_[end - 1 - gap].provisional) ++gap;
+  if (gap == 0 || gap == end) return;  // nothing bridged, or no tracked record before it
   const FrameRecord& a = records_[end - gap - 1];
   const FrameRecord& b = records_[end];
   if (a.timestamp != last_frame_->timestamp || !(b.timestamp > a.timestamp)) return;
@@ -395,7 +395,7 @@ void Tracker::interpolateBridgedRecords() {
   const Pose T_a = a.T_cw(), T_b = b.T_cw();
   for (size_t k = end - gap; k < end; ++k) {
     FrameRecord& r = records_[k];
-    if (!r.provisional || !usable(r)) continue;
+    if (!usable(r)) continue;
     const double s = (r.timestamp - a.timestamp) / (b.timestamp - a.timestamp);
     r.T_cr = interpolatePose(T_a, T_b, s) * r.reference->T_wc();
     r.provisional = false;
