@@ -31,7 +31,7 @@ struct RunOptions {
   int loops = 1;
   int detect_every = 0, detector_latency = -1, opencv_threads = -1;  // < default: keep the config's
   double refill_ratio = -1;
-  std::string box_flow, unboxed_check;                               // empty: keep the config's
+  std::string box_flow, unboxed_check, object_mask;                  // empty: keep the config's
   bool lookahead = false;
   int detector_tiles = 0;  // 0: keep the config's
 };
@@ -82,6 +82,7 @@ int runSlam(const RunOptions& o) {
   if (o.refill_ratio >= 0) config.dynamic.refill_ratio = o.refill_ratio;
   if (!o.box_flow.empty()) config.dynamic.box_flow = o.box_flow;
   if (!o.unboxed_check.empty()) config.dynamic.geometry.unboxed_check = o.unboxed_check == "on";
+  if (!o.object_mask.empty()) config.dynamic.object_mask = o.object_mask == "on";
   if (o.lookahead) config.dynamic.lookahead = true;
   if (o.detector_tiles > 0) config.dynamic.detector_tiles = o.detector_tiles;
   if (config.dynamic.detector_tiles > 1 && !config.dynamic.lookahead) {
@@ -268,6 +269,9 @@ Action addRunCommand(CLI::App& app) {
       ->check(CLI::IsMember({"auto", "on", "off"}));
   cmd->add_option("--unboxed-check", o->unboxed_check,
                   "G modes: also look for movers outside the boxes on every frame (on; off = the paper's TG/TKG)")
+      ->check(CLI::IsMember({"on", "off"}));
+  cmd->add_option("--object-mask", o->object_mask,
+                  "Exclude only what in each box may be the object by depth (on), or the whole box (off = the paper)")
       ->check(CLI::IsMember({"on", "off"}));
   cmd->add_flag("--lookahead", o->lookahead,
                 "Hold frames back until the next detection (boxes interpolated; poses N + L - 1 frames late)");

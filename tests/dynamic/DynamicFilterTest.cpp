@@ -61,6 +61,51 @@ TEST(DynamicFilter, MarginWidensEachBoxByAShareOfItsSize) {
   EXPECT_DOUBLE_EQ(m.ratio, 48.0 * 24.0 / (200.0 * 100.0));
 }
 
+
+// A person-shaped object at 1.5 m in a box over a wall at 3 m: only the object and a band of
+// `radius` px around it are masked; the wall seen around the object inside the box is not.
+TEST(DynamicFilter, ObjectMaskKeepsTheBackgroundBehindTheObjectInItsBox) {
+  cv::Mat depth(240, 320, CV_32F, cv::Scalar(3.0f));
+  const cv::Rect object(140, 40, 40, 160);
+  depth(object).setTo(1.5f);
+  depth(cv::Rect(150, 60, 4, 4)).setTo(0.0f);  // a hole in the object's depth changes nothing
+  dynamic::Detection d;
+  d.box = cv::Rect2f(100, 30, 120, 180);  // loose box: 40 px of wall left and right of the object
+  dynamic::ObjectMaskParams p;
+  p.behind = 0.5;
+  p.radius = 10;
+  const auto m = dynamic::objectMaskInBoxes({d}, depth, 0.0, p);
+  // The object widened by 10 px, cut to the box at the top and bottom: 60 x 180.
+  EXPECT_EQ(cv::countNonZero(m.mask), 60 * 180);
+  EXPECT_EQ(m.mask.at<uchar>(100, 130), 255);  // 10 px left of the object
+  EXPECT_EQ(m.mask.at<uchar>(100, 129), 0);    // the wall beyond the band
+  EXPECT_EQ(m.mask.at<uchar>(100, 105), 0);
+  EXPECT_EQ(m.mask.at<uchar>(35, 160), 255);  // above the object, within the band
+  EXPECT_DOUBLE_EQ(m.ratio, 60.0 * 180.0 / (320.0 * 240.0));
+  // With the whole box as the paper's rule has it, 120 x 180 px would be excluded.
+  EXPECT_EQ(cv::countNonZero(dynamic::rasterizeBoxes({d}, depth.size()).mask), 120 * 180);
+
+  // Something nearer than the object (an arm held out, a desk in front) and pixels without
+  // depth are masked too: only what is clearly behind the object is left out.
+  depth(cv::Rect(105, 100, 10, 10)).setTo(0.8f);
+  depth(cv::Rect(200, 150, 10, 10)).setTo(0.0f);
+  p.radius = 0;
+  const auto near = dynamic::objectMaskInBoxes({d}, depth, 0.0, p);
+  EXPECT_EQ(cv::countNonZero(near.mask), 40 * 160 + 100 + 100);
+  // 1.9 m (0.4 m behind the object) still counts as the object; 2.1 m does not.
+  depth(cv::Rect(105, 40, 10, 10)).setTo(1.9f);
+  depth(cv::Rect(105, 60, 10, 10)).setTo(2.1f);
+  EXPECT_EQ(cv::countNonZero(dynamic::objectMaskInBoxes({d}, depth, 0.0, p).mask), 40 * 160 + 300);
+}
+
+TEST(DynamicFilter, ObjectMaskIsTheWholeBoxWhenItsCentreHasNoDepth) {
+  cv::Mat depth(240, 320, CV_32F, cv::Scalar(3.0f));
+  dynamic::Detection d;
+  d.box = cv::Rect2f(100, 40, 80, 120);
+  depth(cv::Rect(120, 70, 40, 60)).setTo(0.0f);  // the box's central half: no depth at all
+  const auto m = dynamic::objectMaskInBoxes({d}, depth, 0.1, dynamic::ObjectMaskParams{});
+  EXPECT_EQ(cv::countNonZero(m.mask), cv::countNonZero(dynamic::rasterizeBoxes({d}, depth.size(), 0.1).mask));
+}
 TEST(DynamicFilter, BoxOverAStaticWallKeepsItsPoints) {
   Scene s;
   auto ref = gridFeatures(s.wall, s.cam);

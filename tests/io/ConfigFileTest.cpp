@@ -84,6 +84,10 @@ TEST(ConfigFile, InvalidValuesAreClearErrors) {
             std::string::npos);
   EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {refill_ratio: 1.2}").find("refill_ratio must be in [0, 1]"),
             std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {object_radius: 100}").find("object_radius must be in [0, 64]"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {object_behind: -0.1}").find("object_behind must be >= 0"),
+            std::string::npos);
   EXPECT_NE(errorOf(std::string(kMinimal) + "tracking: {max_jump_deg: .nan}").find("must be finite"), std::string::npos);
   EXPECT_NE(errorOf(std::string(kMinimal) + "tracking: {covered_ratio: 0}").find("covered_ratio must be > 0"),
             std::string::npos);

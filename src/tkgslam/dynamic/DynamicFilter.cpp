@@ -14,18 +14,71 @@ bool inMask(const cv::Mat& mask, const cv::Point2f& p) {
   return u >= 0 && v >= 0 && u < mask.cols && v < mask.rows && mask.at<uchar>(v, u);
 }
 
+namespace {
+// The pixels a box widened by `margin` x its size on each side covers (may reach outside the image).
+cv::Rect rasterRect(const cv::Rect2f& box, double margin) {
+  const float mx = float(margin) * box.width, my = float(margin) * box.height;
+  return cv::Rect(cv::Point(int(std::floor(box.x - mx)), int(std::floor(box.y - my))),
+                  cv::Point(int(std::ceil(box.br().x + mx)), int(std::ceil(box.br().y + my))));
+}
+}  // namespace
+
 BoxMask rasterizeBoxes(const std::vector<Detection>& boxes, cv::Size image, double margin) {
   BoxMask m;
   m.mask = cv::Mat::zeros(image, CV_8U);
   const cv::Rect frame(0, 0, image.width, image.height);
   for (const auto& d : boxes) {
-    const float mx = float(margin) * d.box.width, my = float(margin) * d.box.height;
-    const cv::Rect r = cv::Rect(cv::Point(int(std::floor(d.box.x - mx)), int(std::floor(d.box.y - my))),
-                                cv::Point(int(std::ceil(d.box.br().x + mx)), int(std::ceil(d.box.br().y + my)))) &
-                       frame;
+    const cv::Rect r = rasterRect(d.box, margin) & frame;
     if (r.area() > 0) m.mask(r).setTo(255);
   }
   m.ratio = image.area() > 0 ? double(cv::countNonZero(m.mask)) / image.area() : 0.0;
+  return m;
+}
+
+BoxMask objectMaskInBoxes(const std::vector<Detection>& boxes, const cv::Mat& depth_m, double margin,
+                          const ObjectMaskParams& params) {
+  CV_Assert(depth_m.type() == CV_32F);
+  BoxMask m;
+  m.mask = cv::Mat::zeros(depth_m.size(), CV_8U);
+  const cv::Rect frame(0, 0, depth_m.cols, depth_m.rows);
+  const int r = std::max(0, params.radius);
+  const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * r + 1, 2 * r + 1));
+  std::vector<float> centre;
+  for (const auto& d : boxes) {
+    const cv::Rect widened = rasterRect(d.box, margin) & frame;
+    if (widened.area() <= 0) continue;
+    const cv::Rect inner = cv::Rect(cv::Point(int(d.box.x + 0.25f * d.box.width), int(d.box.y + 0.25f * d.box.height)),
+                                    cv::Point(int(std::ceil(d.box.x + 0.75f * d.box.width)),
+                                              int(std::ceil(d.box.y + 0.75f * d.box.height)))) &
+                           frame;
+    centre.clear();
+    for (int v = inner.y; v < inner.br().y; ++v) {
+      const float* row = depth_m.ptr<float>(v);
+      for (int u = inner.x; u < inner.br().x; ++u) {
+        if (row[u] > 0) centre.push_back(row[u]);
+      }
+    }
+    cv::Mat out = m.mask(widened);
+    if (centre.empty()) {
+      out.setTo(255);
+      continue;
+    }
+    auto mid = centre.begin() + centre.size() / 2;
+    std::nth_element(centre.begin(), mid, centre.end());
+    const float farthest = *mid + float(params.behind);
+    // The object's pixels, in the widened box plus the radius (so the dilation near the box's edge
+    // sees them), then dilated and cut back to the widened box.
+    const cv::Rect around = cv::Rect(widened.x - r, widened.y - r, widened.width + 2 * r, widened.height + 2 * r) & frame;
+    cv::Mat object(around.size(), CV_8U);
+    for (int v = 0; v < around.height; ++v) {
+      const float* row = depth_m.ptr<float>(around.y + v) + around.x;
+      uchar* o = object.ptr<uchar>(v);
+      for (int u = 0; u < around.width; ++u) o[u] = row[u] > farthest ? 0 : 255;  // no depth (0) too
+    }
+    if (r > 0) cv::dilate(object, object, kernel);
+    out |= object(widened - around.tl());
+  }
+  m.ratio = frame.area() > 0 ? double(cv::countNonZero(m.mask)) / frame.area() : 0.0;
   return m;
 }
 

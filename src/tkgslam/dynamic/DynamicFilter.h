@@ -51,6 +51,21 @@ struct BoxMask {
 /// detector boxes are tight and limbs of moving people stick out of them.
 BoxMask rasterizeBoxes(const std::vector<Detection>& boxes, cv::Size image, double margin = 0.0);
 
+/// See objectMaskInBoxes.
+struct ObjectMaskParams {
+  double behind = 0.5;  ///< m, depth behind the object's median still counted as the object
+  int radius = 16;      ///< px, the ORB patch radius at level 0 (31 x 31 patch)
+};
+/// Where in the boxes the objects may be, from depth (not in the paper). Each box's object is at the
+/// median depth of the box's central half (width and height); its pixels no more than `behind` metres
+/// behind that, nearer ones and those without depth may be the object, widened by `radius` px (a
+/// keypoint whose ORB patch overlaps a mover moves with it) and kept inside the widened box. Only
+/// what lies clearly behind the object - the background seen around it - is left out. A box without
+/// depth in its centre is masked whole. `depth_m`: CV_32F metres, 0 = no depth, same size as the
+/// image; `ratio` = masked area / image area.
+BoxMask objectMaskInBoxes(const std::vector<Detection>& boxes, const cv::Mat& depth_m, double margin,
+                          const ObjectMaskParams& params);
+
 /// The pixel nearest p is inside the image and non-zero in the 8-bit mask.
 bool inMask(const cv::Mat& mask, const cv::Point2f& p);
 

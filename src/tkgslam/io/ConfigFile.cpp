@@ -208,6 +208,9 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     s.get("detect_every", c.dynamic.detect_every);
     s.get("detector_latency", c.dynamic.detector_latency);
     s.get("box_margin", c.dynamic.box_margin);
+    s.get("object_mask", c.dynamic.object_mask);
+    s.get("object_behind", c.dynamic.object.behind);
+    s.get("object_radius", c.dynamic.object.radius);
     s.get("box_flow", c.dynamic.box_flow);
     s.get("lookahead", c.dynamic.lookahead);
     s.get("detector_tiles", c.dynamic.detector_tiles);
@@ -247,6 +250,9 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     require(g.unboxed_min_hidden >= 0 && g.unboxed_min_hidden <= 1, source,
             "dynamic.unboxed_min_hidden must be in [0, 1]");
     require(c.dynamic.box_margin >= 0 && c.dynamic.box_margin <= 0.5, source, "dynamic.box_margin must be in [0, 0.5]");
+    require(c.dynamic.object.behind >= 0, source, "dynamic.object_behind must be >= 0 (m)");
+    require(c.dynamic.object.radius >= 0 && c.dynamic.object.radius <= 64, source,
+            "dynamic.object_radius must be in [0, 64] px");
     require(c.dynamic.refill_ratio >= 0 && c.dynamic.refill_ratio <= 1, source, "dynamic.refill_ratio must be in [0, 1]");
     require(c.dynamic.detector_tiles >= 1 && c.dynamic.detector_tiles <= 9, source,
             "dynamic.detector_tiles must be in [1, 9]");

@@ -70,6 +70,10 @@ struct DynamicParams {
   dynamic::GeometryParams geometry;
   int detect_every = 1;  ///< run the detector on every N-th frame; the Kalman tracker predicts between
   double box_margin = 0.05;  ///< boxes are widened by this fraction of their size on each side
+  /// Exclude only the part of each box that may be the object (by depth, see objectMaskInBoxes)
+  /// instead of the whole box; the geometry check then works on that part. Not in the paper.
+  bool object_mask = false;
+  dynamic::ObjectMaskParams object;
   int detector_latency = 0;  ///< frames until a detection is used (0 = wait for it; see BoxPipeline)
   /// Kalman modes: tracks' boxes also follow optical flow between frames. "auto" = only when the
   /// detector does not run on every frame or its result arrives late (with a detection on every
