@@ -47,10 +47,7 @@ BoxMask objectMaskInBoxes(const std::vector<Detection>& boxes, const cv::Mat& de
   for (const auto& d : boxes) {
     const cv::Rect widened = rasterRect(d.box, margin) & frame;
     if (widened.area() <= 0) continue;
-    const cv::Rect inner = cv::Rect(cv::Point(int(d.box.x + 0.25f * d.box.width), int(d.box.y + 0.25f * d.box.height)),
-                                    cv::Point(int(std::ceil(d.box.x + 0.75f * d.box.width)),
-                                              int(std::ceil(d.box.y + 0.75f * d.box.height)))) &
-                           frame;
+    const cv::Rect inner = rasterRect(d.box, -0.25) & frame;  // the box's central half
     centre.clear();
     for (int v = inner.y; v < inner.br().y; ++v) {
       const float* row = depth_m.ptr<float>(v);
@@ -69,12 +66,8 @@ BoxMask objectMaskInBoxes(const std::vector<Detection>& boxes, const cv::Mat& de
     // The object's pixels, in the widened box plus the radius (so the dilation near the box's edge
     // sees them), then dilated and cut back to the widened box.
     const cv::Rect around = cv::Rect(widened.x - r, widened.y - r, widened.width + 2 * r, widened.height + 2 * r) & frame;
-    cv::Mat object(around.size(), CV_8U);
-    for (int v = 0; v < around.height; ++v) {
-      const float* row = depth_m.ptr<float>(around.y + v) + around.x;
-      uchar* o = object.ptr<uchar>(v);
-      for (int u = 0; u < around.width; ++u) o[u] = row[u] > farthest ? 0 : 255;  // no depth (0) too
-    }
+    cv::Mat object;
+    cv::compare(depth_m(around), farthest, object, cv::CMP_LE);  // no depth (0) too
     if (r > 0) cv::dilate(object, object, kernel);
     out |= object(widened - around.tl());
   }

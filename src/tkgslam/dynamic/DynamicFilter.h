@@ -61,8 +61,8 @@ struct ObjectMaskParams {
 /// behind that, nearer ones and those without depth may be the object, widened by `radius` px (a
 /// keypoint whose ORB patch overlaps a mover moves with it) and kept inside the widened box. Only
 /// what lies clearly behind the object - the background seen around it - is left out. A box without
-/// depth in its centre is masked whole. `depth_m`: CV_32F metres, 0 = no depth, same size as the
-/// image; `ratio` = masked area / image area.
+/// depth in its centre is masked whole. `depth_m`: CV_32F metres, 0 = no depth (no NaN), same size
+/// as the image; `ratio` = masked area / image area.
 BoxMask objectMaskInBoxes(const std::vector<Detection>& boxes, const cv::Mat& depth_m, double margin,
                           const ObjectMaskParams& params);
 
