@@ -82,7 +82,10 @@ int runSlam(const RunOptions& o) {
   if (o.refill_ratio >= 0) config.dynamic.refill_ratio = o.refill_ratio;
   if (!o.box_flow.empty()) config.dynamic.box_flow = o.box_flow;
   if (!o.unboxed_check.empty()) config.dynamic.geometry.unboxed_check = o.unboxed_check == "on";
-  if (!o.object_mask.empty()) config.dynamic.object_mask = o.object_mask == "on";
+  if (!o.object_mask.empty()) {
+    config.dynamic.object_mask = o.object_mask != "off";
+    config.dynamic.object.colour = o.object_mask == "colour";
+  }
   if (o.lookahead) config.dynamic.lookahead = true;
   if (o.detector_tiles > 0) config.dynamic.detector_tiles = o.detector_tiles;
   if (config.dynamic.detector_tiles > 1 && !config.dynamic.lookahead) {
@@ -271,8 +274,9 @@ Action addRunCommand(CLI::App& app) {
                   "G modes: also look for movers outside the boxes on every frame (on; off = the paper's TG/TKG)")
       ->check(CLI::IsMember({"on", "off"}));
   cmd->add_option("--object-mask", o->object_mask,
-                  "Exclude only what in each box may be the object by depth (on), or the whole box (off = the paper)")
-      ->check(CLI::IsMember({"on", "off"}));
+                  "Exclude only what in each box may be the object by depth (on), by depth and colour (colour), "
+                  "or the whole box (off = the paper)")
+      ->check(CLI::IsMember({"on", "colour", "off"}));
   cmd->add_flag("--lookahead", o->lookahead,
                 "Hold frames back until the next detection (boxes interpolated; poses N + L - 1 frames late)");
   cmd->add_option("--detector-tiles", o->detector_tiles,

@@ -74,7 +74,7 @@ TEST(DynamicFilter, ObjectMaskKeepsTheBackgroundBehindTheObjectInItsBox) {
   dynamic::ObjectMaskParams p;
   p.behind = 0.5;
   p.radius = 10;
-  const auto m = dynamic::objectMaskInBoxes({d}, depth, 0.0, p);
+  const auto m = dynamic::objectMaskInBoxes({d}, cv::Mat(), depth, 0.0, p);
   // The object widened by 10 px, cut to the box at the top and bottom: 60 x 180.
   EXPECT_EQ(cv::countNonZero(m.mask), 60 * 180);
   EXPECT_EQ(m.mask.at<uchar>(100, 130), 255);  // 10 px left of the object
@@ -90,12 +90,42 @@ TEST(DynamicFilter, ObjectMaskKeepsTheBackgroundBehindTheObjectInItsBox) {
   depth(cv::Rect(105, 100, 10, 10)).setTo(0.8f);
   depth(cv::Rect(200, 150, 10, 10)).setTo(0.0f);
   p.radius = 0;
-  const auto near = dynamic::objectMaskInBoxes({d}, depth, 0.0, p);
+  const auto near = dynamic::objectMaskInBoxes({d}, cv::Mat(), depth, 0.0, p);
   EXPECT_EQ(cv::countNonZero(near.mask), 40 * 160 + 100 + 100);
   // 1.9 m (0.4 m behind the object) still counts as the object; 2.1 m does not.
   depth(cv::Rect(105, 40, 10, 10)).setTo(1.9f);
   depth(cv::Rect(105, 60, 10, 10)).setTo(2.1f);
-  EXPECT_EQ(cv::countNonZero(dynamic::objectMaskInBoxes({d}, depth, 0.0, p).mask), 40 * 160 + 300);
+  EXPECT_EQ(cv::countNonZero(dynamic::objectMaskInBoxes({d}, cv::Mat(), depth, 0.0, p).mask), 40 * 160 + 300);
+}
+
+// The same object 0.2 m in front of the wall: depth alone cannot tell the wall in the box from the
+// object, colour (GrabCut seeded by depth) can.
+TEST(DynamicFilter, ObjectMaskByColourLeavesOutTheNearBackgroundInTheBox) {
+  cv::Mat depth(240, 320, CV_32F, cv::Scalar(1.2f));
+  const cv::Rect object(140, 40, 40, 160);
+  depth(object).setTo(1.0f);
+  // Textured greenish wall, textured reddish object (fixed seeds).
+  cv::Mat bgr(depth.size(), CV_8UC3), noise(depth.size(), CV_8UC3);
+  cv::RNG rng(7);
+  rng.fill(noise, cv::RNG::UNIFORM, cv::Scalar::all(0), cv::Scalar::all(40));
+  bgr.setTo(cv::Scalar(60, 150, 70));
+  bgr(object).setTo(cv::Scalar(50, 40, 170));
+  bgr += noise;
+  dynamic::Detection d;
+  d.box = cv::Rect2f(100, 30, 120, 180);
+  dynamic::ObjectMaskParams p;
+  p.behind = 0.5;
+  p.radius = 10;
+  EXPECT_EQ(cv::countNonZero(dynamic::objectMaskInBoxes({d}, bgr, depth, 0.0, p).mask), 120 * 180);
+  p.colour = true;
+  const auto m = dynamic::objectMaskInBoxes({d}, bgr, depth, 0.0, p);
+  EXPECT_EQ(cv::countNonZero(m.mask(object)), object.area());  // all of the object
+  // The object widened by 10 px is 60 x 180; the quarter-size segmentation adds up to 4 px a side.
+  EXPECT_GE(cv::countNonZero(m.mask), 60 * 180);
+  EXPECT_LE(cv::countNonZero(m.mask), 68 * 180);
+  EXPECT_EQ(m.mask.at<uchar>(100, 105), 0);  // the wall in the box
+  // Runs repeat (GrabCut's k-means is seeded).
+  EXPECT_EQ(cv::countNonZero(m.mask != dynamic::objectMaskInBoxes({d}, bgr, depth, 0.0, p).mask), 0);
 }
 
 TEST(DynamicFilter, ObjectMaskIsTheWholeBoxWhenItsCentreHasNoDepth) {
@@ -103,7 +133,7 @@ TEST(DynamicFilter, ObjectMaskIsTheWholeBoxWhenItsCentreHasNoDepth) {
   dynamic::Detection d;
   d.box = cv::Rect2f(100, 40, 80, 120);
   depth(cv::Rect(120, 70, 40, 60)).setTo(0.0f);  // the box's central half: no depth at all
-  const auto m = dynamic::objectMaskInBoxes({d}, depth, 0.1, dynamic::ObjectMaskParams{});
+  const auto m = dynamic::objectMaskInBoxes({d}, cv::Mat(), depth, 0.1, dynamic::ObjectMaskParams{});
   EXPECT_EQ(cv::countNonZero(m.mask), cv::countNonZero(dynamic::rasterizeBoxes({d}, depth.size(), 0.1).mask));
 }
 TEST(DynamicFilter, BoxOverAStaticWallKeepsItsPoints) {

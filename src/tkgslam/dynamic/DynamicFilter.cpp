@@ -21,6 +21,52 @@ cv::Rect rasterRect(const cv::Rect2f& box, double margin) {
   return cv::Rect(cv::Point(int(std::floor(box.x - mx)), int(std::floor(box.y - my))),
                   cv::Point(int(std::ceil(box.br().x + mx)), int(std::ceil(box.br().y + my))));
 }
+
+// The object's pixels in `around` (full resolution, 255) by GrabCut on a quarter-size crop, seeded
+// by depth (see objectMaskInBoxes). Empty when the seeds lack one side (GrabCut needs both).
+cv::Mat colourObject(const cv::Rect2f& box, const cv::Rect& around, const cv::Mat& bgr, const cv::Mat& depth_m,
+                     float median, float farthest) {
+  constexpr double kScale = 0.25;
+  constexpr float kObjectBand = 0.03f;  // m around the median: certainly the object
+  const cv::Rect frame(0, 0, bgr.cols, bgr.rows);
+  const cv::Rect crop = rasterRect(box, 0.15) & frame;
+  const cv::Size small(std::max(1, int(crop.width * kScale)), std::max(1, int(crop.height * kScale)));
+  if (small.width < 4 || small.height < 4) return {};
+  cv::Mat colour, depth;
+  cv::resize(bgr(crop), colour, small, 0, 0, cv::INTER_AREA);
+  cv::resize(depth_m(crop), depth, small, 0, 0, cv::INTER_NEAREST);
+  const cv::Rect2f in_box((box.x - crop.x) * small.width / crop.width, (box.y - crop.y) * small.height / crop.height,
+                          box.width * small.width / crop.width, box.height * small.height / crop.height);
+  cv::Mat seeds(small, CV_8U);
+  int object_seeds = 0, background_seeds = 0;
+  for (int v = 0; v < small.height; ++v) {
+    const float* z = depth.ptr<float>(v);
+    uchar* out = seeds.ptr<uchar>(v);
+    for (int u = 0; u < small.width; ++u) {
+      const bool inside = in_box.contains(cv::Point2f(u + 0.5f, v + 0.5f));
+      if (z[u] > farthest || !inside) {
+        out[u] = z[u] > farthest || z[u] <= 0 ? cv::GC_BGD : cv::GC_PR_BGD;
+      } else {
+        out[u] = z[u] > 0 && std::abs(z[u] - median) < kObjectBand ? cv::GC_FGD : cv::GC_PR_FGD;
+      }
+      (out[u] == cv::GC_FGD || out[u] == cv::GC_PR_FGD ? object_seeds : background_seeds)++;
+    }
+  }
+  if (object_seeds == 0 || background_seeds == 0) return {};
+  // GrabCut's k-means draws from the thread's RNG: seed it so that runs repeat, and restore it.
+  const uint64 saved = cv::theRNG().state;
+  cv::theRNG().state = 0x7E57ULL;
+  cv::Mat bgd_model, fgd_model;
+  cv::grabCut(colour, seeds, cv::Rect(), bgd_model, fgd_model, 2, cv::GC_INIT_WITH_MASK);
+  cv::theRNG().state = saved;
+  cv::Mat object_small = (seeds & 1) * 255;  // GC_FGD and GC_PR_FGD are the odd labels
+  cv::Mat object = cv::Mat::zeros(around.size(), CV_8U);
+  const cv::Rect shared = crop & around;
+  cv::Mat object_crop;
+  cv::resize(object_small, object_crop, crop.size(), 0, 0, cv::INTER_NEAREST);
+  object_crop(shared - crop.tl()).copyTo(object(shared - around.tl()));
+  return object;
+}
 }  // namespace
 
 BoxMask rasterizeBoxes(const std::vector<Detection>& boxes, cv::Size image, double margin) {
@@ -35,9 +81,10 @@ BoxMask rasterizeBoxes(const std::vector<Detection>& boxes, cv::Size image, doub
   return m;
 }
 
-BoxMask objectMaskInBoxes(const std::vector<Detection>& boxes, const cv::Mat& depth_m, double margin,
-                          const ObjectMaskParams& params) {
+BoxMask objectMaskInBoxes(const std::vector<Detection>& boxes, const cv::Mat& bgr, const cv::Mat& depth_m,
+                          double margin, const ObjectMaskParams& params) {
   CV_Assert(depth_m.type() == CV_32F);
+  CV_Assert(!params.colour || (bgr.type() == CV_8UC3 && bgr.size() == depth_m.size()));
   BoxMask m;
   m.mask = cv::Mat::zeros(depth_m.size(), CV_8U);
   const cv::Rect frame(0, 0, depth_m.cols, depth_m.rows);
@@ -67,7 +114,8 @@ BoxMask objectMaskInBoxes(const std::vector<Detection>& boxes, const cv::Mat& de
     // sees them), then dilated and cut back to the widened box.
     const cv::Rect around = cv::Rect(widened.x - r, widened.y - r, widened.width + 2 * r, widened.height + 2 * r) & frame;
     cv::Mat object;
-    cv::compare(depth_m(around), farthest, object, cv::CMP_LE);  // no depth (0) too
+    if (params.colour) object = colourObject(d.box, around, bgr, depth_m, *mid, farthest);
+    if (object.empty()) cv::compare(depth_m(around), farthest, object, cv::CMP_LE);  // no depth (0) too
     if (r > 0) cv::dilate(object, object, kernel);
     out |= object(widened - around.tl());
   }

@@ -55,6 +55,8 @@ BoxMask rasterizeBoxes(const std::vector<Detection>& boxes, cv::Size image, doub
 struct ObjectMaskParams {
   double behind = 0.5;  ///< m, depth behind the object's median still counted as the object
   int radius = 16;      ///< px, the ORB patch radius at level 0 (31 x 31 patch)
+  /// Segment the object by colour too: GrabCut seeded by depth (see objectMaskInBoxes).
+  bool colour = false;
 };
 /// Where in the boxes the objects may be, from depth (not in the paper). Each box's object is at the
 /// median depth of the box's central half (width and height); its pixels no more than `behind` metres
@@ -63,8 +65,13 @@ struct ObjectMaskParams {
 /// what lies clearly behind the object - the background seen around it - is left out. A box without
 /// depth in its centre is masked whole. `depth_m`: CV_32F metres, 0 = no depth (no NaN), same size
 /// as the image; `ratio` = masked area / image area.
-BoxMask objectMaskInBoxes(const std::vector<Detection>& boxes, const cv::Mat& depth_m, double margin,
-                          const ObjectMaskParams& params);
+/// With `params.colour`, the object inside the box is what GrabCut (on a quarter-size crop of the
+/// box and 15 % around it, `bgr` CV_8UC3) separates from its background, seeded by depth: outside
+/// the box and more than `behind` behind the median certain background, inside the box within 3 cm
+/// of the median certain object, the rest probable object (in the box) or background (around it).
+/// Background nearer than `behind` is then left out too. Falls back to the depth mask where GrabCut has no seeds of one side.
+BoxMask objectMaskInBoxes(const std::vector<Detection>& boxes, const cv::Mat& bgr, const cv::Mat& depth_m,
+                          double margin, const ObjectMaskParams& params);
 
 /// The pixel nearest p is inside the image and non-zero in the 8-bit mask.
 bool inMask(const cv::Mat& mask, const cv::Point2f& p);

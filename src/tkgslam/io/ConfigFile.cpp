@@ -211,6 +211,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     s.get("object_mask", c.dynamic.object_mask);
     s.get("object_behind", c.dynamic.object.behind);
     s.get("object_radius", c.dynamic.object.radius);
+    s.get("object_colour", c.dynamic.object.colour);
     s.get("box_flow", c.dynamic.box_flow);
     s.get("lookahead", c.dynamic.lookahead);
     s.get("detector_tiles", c.dynamic.detector_tiles);
