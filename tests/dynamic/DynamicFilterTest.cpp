@@ -128,6 +128,26 @@ TEST(DynamicFilter, ObjectMaskByColourLeavesOutTheNearBackgroundInTheBox) {
   EXPECT_EQ(cv::countNonZero(m.mask != dynamic::objectMaskInBoxes({d}, bgr, depth, 0.0, p).mask), 0);
 }
 
+// Boxes too small, covering the image or of one flat colour give GrabCut too little to work on:
+// the depth mask is used, nothing throws.
+TEST(DynamicFilter, ObjectMaskByColourFallsBackToDepthOnDegenerateBoxes) {
+  cv::Mat depth(60, 80, CV_32F, cv::Scalar(1.0f));
+  const cv::Mat flat(depth.size(), CV_8UC3, cv::Scalar(90, 90, 90));
+  dynamic::ObjectMaskParams p;
+  p.colour = true;
+  p.radius = 0;
+  for (const cv::Rect2f box : {cv::Rect2f(30, 20, 6, 6), cv::Rect2f(0, 0, 80, 60), cv::Rect2f(2, 2, 76, 56),
+                               cv::Rect2f(20, 10, 40, 40)}) {
+    dynamic::Detection d;
+    d.box = box;
+    const auto colour = dynamic::objectMaskInBoxes({d}, flat, depth, 0.0, p);
+    p.colour = false;
+    const auto by_depth = dynamic::objectMaskInBoxes({d}, flat, depth, 0.0, p);
+    p.colour = true;
+    EXPECT_EQ(cv::countNonZero(colour.mask), cv::countNonZero(by_depth.mask)) << box;
+  }
+}
+
 TEST(DynamicFilter, ObjectMaskIsTheWholeBoxWhenItsCentreHasNoDepth) {
   cv::Mat depth(240, 320, CV_32F, cv::Scalar(3.0f));
   dynamic::Detection d;

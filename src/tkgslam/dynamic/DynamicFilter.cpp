@@ -52,12 +52,19 @@ cv::Mat colourObject(const cv::Rect2f& box, const cv::Rect& around, const cv::Ma
       (out[u] == cv::GC_FGD || out[u] == cv::GC_PR_FGD ? object_seeds : background_seeds)++;
     }
   }
-  if (object_seeds == 0 || background_seeds == 0) return {};
-  // GrabCut's k-means draws from the thread's RNG: seed it so that runs repeat, and restore it.
+  // GrabCut fits 5-component colour models to each side by k-means: it needs samples of both.
+  constexpr int kMinSeeds = 16;
+  if (object_seeds < kMinSeeds || background_seeds < kMinSeeds) return {};
+  // The k-means draws from the thread's RNG: seed it so that runs repeat, and restore it.
   const uint64 saved = cv::theRNG().state;
   cv::theRNG().state = 0x7E57ULL;
   cv::Mat bgd_model, fgd_model;
-  cv::grabCut(colour, seeds, cv::Rect(), bgd_model, fgd_model, 2, cv::GC_INIT_WITH_MASK);
+  try {
+    cv::grabCut(colour, seeds, cv::Rect(), bgd_model, fgd_model, 2, cv::GC_INIT_WITH_MASK);
+  } catch (const cv::Exception&) {  // e.g. too few distinct colours for the models: use depth alone
+    cv::theRNG().state = saved;
+    return {};
+  }
   cv::theRNG().state = saved;
   cv::Mat object_small = (seeds & 1) * 255;  // GC_FGD and GC_PR_FGD are the odd labels
   cv::Mat object = cv::Mat::zeros(around.size(), CV_8U);
