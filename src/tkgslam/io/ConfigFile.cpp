@@ -252,6 +252,8 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
             "dynamic.unboxed_min_hidden must be in [0, 1]");
     require(c.dynamic.box_margin >= 0 && c.dynamic.box_margin <= 0.5, source, "dynamic.box_margin must be in [0, 0.5]");
     require(c.dynamic.object.behind >= 0, source, "dynamic.object_behind must be >= 0 (m)");
+    require(!c.dynamic.object.colour || c.dynamic.object_mask, source,
+            "dynamic.object_colour needs dynamic.object_mask: true (it refines the object mask)");
     require(c.dynamic.object.radius >= 0 && c.dynamic.object.radius <= 64, source,
             "dynamic.object_radius must be in [0, 64] px");
     require(c.dynamic.refill_ratio >= 0 && c.dynamic.refill_ratio <= 1, source, "dynamic.refill_ratio must be in [0, 1]");
