@@ -38,35 +38,37 @@ cv::Mat colourObject(const cv::Rect2f& box, const cv::Rect& around, const cv::Ma
   const cv::Rect2f in_box((box.x - crop.x) * small.width / crop.width, (box.y - crop.y) * small.height / crop.height,
                           box.width * small.width / crop.width, box.height * small.height / crop.height);
   cv::Mat seeds(small, CV_8U);
-  int object_seeds = 0, background_seeds = 0;
   for (int v = 0; v < small.height; ++v) {
     const float* z = depth.ptr<float>(v);
     uchar* out = seeds.ptr<uchar>(v);
     for (int u = 0; u < small.width; ++u) {
-      const bool inside = in_box.contains(cv::Point2f(u + 0.5f, v + 0.5f));
-      if (z[u] > farthest || !inside) {
-        out[u] = z[u] > farthest || z[u] <= 0 ? cv::GC_BGD : cv::GC_PR_BGD;
+      if (z[u] > farthest) {
+        out[u] = cv::GC_BGD;
+      } else if (!in_box.contains(cv::Point2f(u + 0.5f, v + 0.5f))) {
+        out[u] = z[u] > 0 ? cv::GC_PR_BGD : cv::GC_BGD;
       } else {
         out[u] = z[u] > 0 && std::abs(z[u] - median) < kObjectBand ? cv::GC_FGD : cv::GC_PR_FGD;
       }
-      (out[u] == cv::GC_FGD || out[u] == cv::GC_PR_FGD ? object_seeds : background_seeds)++;
     }
   }
+  const cv::Mat is_object = seeds & 1;  // GC_FGD and GC_PR_FGD are the odd labels
+  const int object_seeds = cv::countNonZero(is_object);
   // GrabCut fits 5-component colour models to each side by k-means: it needs samples of both.
   constexpr int kMinSeeds = 16;
-  if (object_seeds < kMinSeeds || background_seeds < kMinSeeds) return {};
+  if (object_seeds < kMinSeeds || int(seeds.total()) - object_seeds < kMinSeeds) return {};
   // The k-means draws from the thread's RNG: seed it so that runs repeat, and restore it.
   const uint64 saved = cv::theRNG().state;
   cv::theRNG().state = 0x7E57ULL;
+  bool segmented = true;
   cv::Mat bgd_model, fgd_model;
   try {
     cv::grabCut(colour, seeds, cv::Rect(), bgd_model, fgd_model, 2, cv::GC_INIT_WITH_MASK);
   } catch (const cv::Exception&) {  // e.g. too few distinct colours for the models: use depth alone
-    cv::theRNG().state = saved;
-    return {};
+    segmented = false;
   }
   cv::theRNG().state = saved;
-  cv::Mat object_small = (seeds & 1) * 255;  // GC_FGD and GC_PR_FGD are the odd labels
+  if (!segmented) return {};
+  cv::Mat object_small = (seeds & 1) * 255;
   cv::Mat object = cv::Mat::zeros(around.size(), CV_8U);
   const cv::Rect shared = crop & around;
   cv::Mat object_crop;

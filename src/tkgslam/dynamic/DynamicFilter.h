@@ -69,7 +69,8 @@ struct ObjectMaskParams {
 /// box and 15 % around it, `bgr` CV_8UC3) separates from its background, seeded by depth: outside
 /// the box and more than `behind` behind the median certain background, inside the box within 3 cm
 /// of the median certain object, the rest probable object (in the box) or background (around it).
-/// Background nearer than `behind` is then left out too. Falls back to the depth mask where GrabCut has too few seeds of one side or fails.
+/// Background nearer than `behind` is then left out too. Falls back to the depth mask where GrabCut
+/// has too few seeds of one side or fails.
 BoxMask objectMaskInBoxes(const std::vector<Detection>& boxes, const cv::Mat& bgr, const cv::Mat& depth_m,
                           double margin, const ObjectMaskParams& params);
 
