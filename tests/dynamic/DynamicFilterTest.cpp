@@ -100,6 +100,44 @@ TEST(DynamicFilter, ObjectMaskKeepsTheBackgroundBehindTheObjectInItsBox) {
 
 // The same object 0.2 m in front of the wall: depth alone cannot tell the wall in the box from the
 // object, colour (GrabCut seeded by depth) can.
+// The object mask frees the wall in the box, but T stays the boxes' share.
+TEST(DynamicFilter, DynamicMaskFreesWhatIsBehindTheObjectButTIsTheBoxesShare) {
+  cv::Mat depth(240, 320, CV_32F, cv::Scalar(3.0f));
+  depth(cv::Rect(140, 40, 40, 160)).setTo(1.5f);
+  dynamic::Detection d;
+  d.box = cv::Rect2f(100, 30, 120, 180);
+  dynamic::ObjectMaskParams p;
+  p.radius = 0;
+  const double box_share = 120.0 * 180.0 / (320.0 * 240.0);
+  const auto object = dynamic::dynamicMask({d}, cv::Mat(), depth, 0.0, &p);
+  EXPECT_EQ(cv::countNonZero(object.mask), 40 * 160);
+  EXPECT_DOUBLE_EQ(object.ratio, box_share);
+  const auto boxes = dynamic::dynamicMask({d}, cv::Mat(), depth, 0.0, nullptr);
+  EXPECT_EQ(cv::countNonZero(boxes.mask), 120 * 180);
+  EXPECT_DOUBLE_EQ(boxes.ratio, box_share);
+}
+
+// The depth band behind the object as a share of its size: a person twice as large (same box,
+// twice the focal length's metres per pixel) keeps twice as deep a band.
+TEST(DynamicFilter, ObjectMaskBandBehindScalesWithTheObjectsSize) {
+  cv::Mat depth(240, 320, CV_32F, cv::Scalar(3.0f));
+  depth(cv::Rect(140, 40, 40, 160)).setTo(1.5f);
+  depth(cv::Rect(105, 40, 10, 10)).setTo(1.7f);   // 0.2 m behind the object
+  depth(cv::Rect(105, 60, 10, 10)).setTo(1.85f);  // 0.35 m behind
+  dynamic::Detection d;
+  d.box = cv::Rect2f(100, 30, 120, 180);
+  dynamic::ObjectMaskParams p;
+  p.behind = 0.1;  // not used with behind_per_size
+  p.radius = 0;
+  p.behind_per_size = 0.5;
+  p.focal_px = 500;  // 180 px at 1.5 m: 0.54 m, band 0.27 m
+  EXPECT_EQ(cv::countNonZero(dynamic::objectMaskInBoxes({d}, cv::Mat(), depth, 0.0, p).mask), 40 * 160 + 100);
+  p.focal_px = 250;  // 1.08 m, band 0.54 m
+  EXPECT_EQ(cv::countNonZero(dynamic::objectMaskInBoxes({d}, cv::Mat(), depth, 0.0, p).mask), 40 * 160 + 200);
+  p.behind_per_size = 0;  // absolute: 0.1 m
+  EXPECT_EQ(cv::countNonZero(dynamic::objectMaskInBoxes({d}, cv::Mat(), depth, 0.0, p).mask), 40 * 160);
+}
+
 TEST(DynamicFilter, ObjectMaskByColourLeavesOutTheNearBackgroundInTheBox) {
   cv::Mat depth(240, 320, CV_32F, cv::Scalar(1.2f));
   const cv::Rect object(140, 40, 40, 160);

@@ -91,6 +91,13 @@ TEST(ConfigFile, InvalidValuesAreClearErrors) {
             std::string::npos);
   EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {object_behind: -0.1}").find("object_behind must be >= 0"),
             std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {object_behind_per_size: -1}").find("object_behind_per_size must be"),
+            std::string::npos);
+  {
+    const auto c = io::parseConfig(std::string(kMinimal) + "dynamic: {object_behind_per_size: 0.25}", "t");
+    EXPECT_DOUBLE_EQ(c.dynamic.object.behind_per_size, 0.25);
+    EXPECT_DOUBLE_EQ(c.dynamic.object.focal_px, c.camera.fy);
+  }
   EXPECT_NE(errorOf(std::string(kMinimal) + "tracking: {max_jump_deg: .nan}").find("must be finite"), std::string::npos);
   EXPECT_NE(errorOf(std::string(kMinimal) + "tracking: {covered_ratio: 0}").find("covered_ratio must be > 0"),
             std::string::npos);

@@ -94,6 +94,7 @@ BoxMask objectMaskInBoxes(const std::vector<Detection>& boxes, const cv::Mat& bg
                           double margin, const ObjectMaskParams& params) {
   CV_Assert(depth_m.type() == CV_32F);
   CV_Assert(!params.colour || (bgr.type() == CV_8UC3 && bgr.size() == depth_m.size()));
+  CV_Assert(params.behind_per_size <= 0 || params.focal_px > 0);
   BoxMask m;
   m.mask = cv::Mat::zeros(depth_m.size(), CV_8U);
   const cv::Rect frame(0, 0, depth_m.cols, depth_m.rows);
@@ -118,7 +119,10 @@ BoxMask objectMaskInBoxes(const std::vector<Detection>& boxes, const cv::Mat& bg
     }
     auto mid = centre.begin() + centre.size() / 2;
     std::nth_element(centre.begin(), mid, centre.end());
-    const float farthest = *mid + float(params.behind);
+    const double behind = params.behind_per_size > 0
+                              ? params.behind_per_size * std::max(d.box.width, d.box.height) * *mid / params.focal_px
+                              : params.behind;
+    const float farthest = *mid + float(behind);
     // The object's pixels, in the widened box plus the radius (so the dilation near the box's edge
     // sees them), then dilated and cut back to the widened box.
     const cv::Rect around = cv::Rect(widened.x - r, widened.y - r, widened.width + 2 * r, widened.height + 2 * r) & frame;
@@ -129,6 +133,15 @@ BoxMask objectMaskInBoxes(const std::vector<Detection>& boxes, const cv::Mat& bg
     out |= object(widened - around.tl());
   }
   m.ratio = frame.area() > 0 ? double(cv::countNonZero(m.mask)) / frame.area() : 0.0;
+  return m;
+}
+
+BoxMask dynamicMask(const std::vector<Detection>& boxes, const cv::Mat& bgr, const cv::Mat& depth_m, double margin,
+                    const ObjectMaskParams* object) {
+  BoxMask whole = rasterizeBoxes(boxes, bgr.empty() ? depth_m.size() : bgr.size(), margin);
+  if (!object) return whole;
+  BoxMask m = objectMaskInBoxes(boxes, bgr, depth_m, margin, *object);
+  m.ratio = whole.ratio;
   return m;
 }
 

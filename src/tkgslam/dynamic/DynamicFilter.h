@@ -54,6 +54,10 @@ BoxMask rasterizeBoxes(const std::vector<Detection>& boxes, cv::Size image, doub
 /// See objectMaskInBoxes.
 struct ObjectMaskParams {
   double behind = 0.5;  ///< m, depth behind the object's median still counted as the object
+  /// > 0: `behind` is this share of the object's size instead - the larger side of its box in metres
+  /// at the median depth (px x depth / focal_px) - as a body's depth extent scales with its size.
+  double behind_per_size = 0;
+  double focal_px = 0;  ///< px, converts box sizes to metres (needed with behind_per_size)
   int radius = 16;      ///< px, the ORB patch radius at level 0 (31 x 31 patch)
   /// Segment the object by colour too: GrabCut seeded by depth (see objectMaskInBoxes).
   bool colour = false;
@@ -73,6 +77,12 @@ struct ObjectMaskParams {
 /// has too few seeds of one side or fails.
 BoxMask objectMaskInBoxes(const std::vector<Detection>& boxes, const cv::Mat& bgr, const cv::Mat& depth_m,
                           double margin, const ObjectMaskParams& params);
+
+/// What of the boxes is excluded: the object mask (objectMaskInBoxes) with `object`, else the whole
+/// boxes (rasterizeBoxes). `ratio` is the boxes' share of the view either way: the paper's T, which
+/// the refill, the geometry check and the covered-frame rule read.
+BoxMask dynamicMask(const std::vector<Detection>& boxes, const cv::Mat& bgr, const cv::Mat& depth_m, double margin,
+                    const ObjectMaskParams* object);
 
 /// The pixel nearest p is inside the image and non-zero in the 8-bit mask.
 bool inMask(const cv::Mat& mask, const cv::Point2f& p);

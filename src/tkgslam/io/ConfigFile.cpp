@@ -210,6 +210,8 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     s.get("box_margin", c.dynamic.box_margin);
     s.get("object_mask", c.dynamic.object_mask);
     s.get("object_behind", c.dynamic.object.behind);
+    s.get("object_behind_per_size", c.dynamic.object.behind_per_size);
+    c.dynamic.object.focal_px = c.camera.fy;  // box heights to metres
     s.get("object_radius", c.dynamic.object.radius);
     s.get("object_colour", c.dynamic.object.colour);
     s.get("box_flow", c.dynamic.box_flow);
@@ -252,6 +254,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
             "dynamic.unboxed_min_hidden must be in [0, 1]");
     require(c.dynamic.box_margin >= 0 && c.dynamic.box_margin <= 0.5, source, "dynamic.box_margin must be in [0, 0.5]");
     require(c.dynamic.object.behind >= 0, source, "dynamic.object_behind must be >= 0 (m)");
+    require(c.dynamic.object.behind_per_size >= 0, source, "dynamic.object_behind_per_size must be >= 0");
     require(!c.dynamic.object.colour || c.dynamic.object_mask, source,
             "dynamic.object_colour needs dynamic.object_mask: true (it refines the object mask)");
     require(c.dynamic.object.radius >= 0 && c.dynamic.object.radius <= 64, source,

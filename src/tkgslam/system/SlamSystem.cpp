@@ -54,14 +54,12 @@ void SlamSystem::refillOutsideBoxes(PreparedFrame& frame, const cv::Mat& box_mas
 tracking::RefineKeypoints SlamSystem::filterDynamic(PreparedFrame& frame, dynamic::BoxMask& box_mask,
                                                     DynamicFrameInfo& info) {
   const io::RgbdImages& images = frame.images;
-  if (config_.dynamic.object_mask) {
-    const auto t0 = std::chrono::steady_clock::now();
-    box_mask = dynamic::objectMaskInBoxes(info.boxes, images.bgr, images.depth_m, config_.dynamic.box_margin,
-                                          config_.dynamic.object);
-    timing_.add("object_mask", msSince(t0));
-  } else {
-    box_mask = dynamic::rasterizeBoxes(info.boxes, images.bgr.size(), config_.dynamic.box_margin);
-  }
+  const auto t0 = std::chrono::steady_clock::now();
+  // T is the boxes' share also with the object mask (dynamicMask): with the mask's own share,
+  // TKG on very_high got 0.0868 m instead of 0.0143 m (object_behind 0.3).
+  box_mask = dynamic::dynamicMask(info.boxes, images.bgr, images.depth_m, config_.dynamic.box_margin,
+                                  config_.dynamic.object_mask ? &config_.dynamic.object : nullptr);
+  if (config_.dynamic.object_mask) timing_.add("object_mask", msSince(t0));
   info.box_ratio = box_mask.ratio;
   for (const auto& b : info.boxes) (b.predicted ? info.predicted : info.detected)++;
   const double refill = config_.dynamic.refill_ratio;
