@@ -117,8 +117,8 @@ TEST(DynamicFilter, DynamicMaskFreesWhatIsBehindTheObjectButTIsTheBoxesShare) {
   EXPECT_DOUBLE_EQ(boxes.ratio, box_share);
 }
 
-// The depth band behind the object as a share of its size: a person twice as large (same box,
-// twice the focal length's metres per pixel) keeps twice as deep a band.
+// The depth band behind the object as a share of its size: the same box at half the focal length
+// is an object twice as large, with a band twice as deep.
 TEST(DynamicFilter, ObjectMaskBandBehindScalesWithTheObjectsSize) {
   cv::Mat depth(240, 320, CV_32F, cv::Scalar(3.0f));
   depth(cv::Rect(140, 40, 40, 160)).setTo(1.5f);

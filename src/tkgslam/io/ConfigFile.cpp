@@ -211,7 +211,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     s.get("object_mask", c.dynamic.object_mask);
     s.get("object_behind", c.dynamic.object.behind);
     s.get("object_behind_per_size", c.dynamic.object.behind_per_size);
-    c.dynamic.object.focal_px = c.camera.fy;  // box heights to metres
+    c.dynamic.object.focal_px = c.camera.fy;  // box sizes (px) to metres
     s.get("object_radius", c.dynamic.object.radius);
     s.get("object_colour", c.dynamic.object.colour);
     s.get("box_flow", c.dynamic.box_flow);
