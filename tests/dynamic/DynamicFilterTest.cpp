@@ -16,6 +16,20 @@ camera::PinholeCamera makeCamera() {
   return camera::PinholeCamera(p);
 }
 
+// The object-mask tests' scene: a person-shaped object (kObject) at `object` m in front of a wall
+// at `wall` m, in a loose box (looseBox: 40 px of wall left and right of the object).
+const cv::Rect kObject(140, 40, 40, 160);
+cv::Mat objectBeforeWall(float object, float wall) {
+  cv::Mat depth(240, 320, CV_32F, cv::Scalar(wall));
+  depth(kObject).setTo(object);
+  return depth;
+}
+dynamic::Detection looseBox() {
+  dynamic::Detection d;
+  d.box = cv::Rect2f(100, 30, 120, 180);
+  return d;
+}
+
 // Keypoints on a regular grid with depth read from the given depth image.
 std::shared_ptr<data::FrameFeatures> gridFeatures(const cv::Mat& depth, const camera::PinholeCamera& cam) {
   feature::OrbFeatures orb;
@@ -65,12 +79,9 @@ TEST(DynamicFilter, MarginWidensEachBoxByAShareOfItsSize) {
 // A person-shaped object at 1.5 m in a box over a wall at 3 m: only the object and a band of
 // `radius` px around it are masked; the wall seen around the object inside the box is not.
 TEST(DynamicFilter, ObjectMaskKeepsTheBackgroundBehindTheObjectInItsBox) {
-  cv::Mat depth(240, 320, CV_32F, cv::Scalar(3.0f));
-  const cv::Rect object(140, 40, 40, 160);
-  depth(object).setTo(1.5f);
+  cv::Mat depth = objectBeforeWall(1.5f, 3.0f);
   depth(cv::Rect(150, 60, 4, 4)).setTo(0.0f);  // a hole in the object's depth changes nothing
-  dynamic::Detection d;
-  d.box = cv::Rect2f(100, 30, 120, 180);  // loose box: 40 px of wall left and right of the object
+  const dynamic::Detection d = looseBox();
   dynamic::ObjectMaskParams p;
   p.behind = 0.5;
   p.radius = 10;
@@ -98,14 +109,10 @@ TEST(DynamicFilter, ObjectMaskKeepsTheBackgroundBehindTheObjectInItsBox) {
   EXPECT_EQ(cv::countNonZero(dynamic::objectMaskInBoxes({d}, cv::Mat(), depth, 0.0, p).mask), 40 * 160 + 300);
 }
 
-// The same object 0.2 m in front of the wall: depth alone cannot tell the wall in the box from the
-// object, colour (GrabCut seeded by depth) can.
 // The object mask frees the wall in the box, but T stays the boxes' share.
 TEST(DynamicFilter, DynamicMaskFreesWhatIsBehindTheObjectButTIsTheBoxesShare) {
-  cv::Mat depth(240, 320, CV_32F, cv::Scalar(3.0f));
-  depth(cv::Rect(140, 40, 40, 160)).setTo(1.5f);
-  dynamic::Detection d;
-  d.box = cv::Rect2f(100, 30, 120, 180);
+  const cv::Mat depth = objectBeforeWall(1.5f, 3.0f);
+  const dynamic::Detection d = looseBox();
   dynamic::ObjectMaskParams p;
   p.radius = 0;
   const double box_share = 120.0 * 180.0 / (320.0 * 240.0);
@@ -120,12 +127,10 @@ TEST(DynamicFilter, DynamicMaskFreesWhatIsBehindTheObjectButTIsTheBoxesShare) {
 // The depth band behind the object as a share of its size: the same box at half the focal length
 // is an object twice as large, with a band twice as deep.
 TEST(DynamicFilter, ObjectMaskBandBehindScalesWithTheObjectsSize) {
-  cv::Mat depth(240, 320, CV_32F, cv::Scalar(3.0f));
-  depth(cv::Rect(140, 40, 40, 160)).setTo(1.5f);
+  cv::Mat depth = objectBeforeWall(1.5f, 3.0f);
   depth(cv::Rect(105, 40, 10, 10)).setTo(1.7f);   // 0.2 m behind the object
   depth(cv::Rect(105, 60, 10, 10)).setTo(1.85f);  // 0.35 m behind
-  dynamic::Detection d;
-  d.box = cv::Rect2f(100, 30, 120, 180);
+  const dynamic::Detection d = looseBox();
   dynamic::ObjectMaskParams p;
   p.behind = 0.1;  // not used with behind_per_size
   p.radius = 0;
@@ -138,26 +143,25 @@ TEST(DynamicFilter, ObjectMaskBandBehindScalesWithTheObjectsSize) {
   EXPECT_EQ(cv::countNonZero(dynamic::objectMaskInBoxes({d}, cv::Mat(), depth, 0.0, p).mask), 40 * 160);
 }
 
+// The same object 0.2 m in front of the wall: depth alone cannot tell the wall in the box from the
+// object, colour (GrabCut seeded by depth) can.
 TEST(DynamicFilter, ObjectMaskByColourLeavesOutTheNearBackgroundInTheBox) {
-  cv::Mat depth(240, 320, CV_32F, cv::Scalar(1.2f));
-  const cv::Rect object(140, 40, 40, 160);
-  depth(object).setTo(1.0f);
+  const cv::Mat depth = objectBeforeWall(1.0f, 1.2f);
   // Textured greenish wall, textured reddish object (fixed seeds).
   cv::Mat bgr(depth.size(), CV_8UC3), noise(depth.size(), CV_8UC3);
   cv::RNG rng(7);
   rng.fill(noise, cv::RNG::UNIFORM, cv::Scalar::all(0), cv::Scalar::all(40));
   bgr.setTo(cv::Scalar(60, 150, 70));
-  bgr(object).setTo(cv::Scalar(50, 40, 170));
+  bgr(kObject).setTo(cv::Scalar(50, 40, 170));
   bgr += noise;
-  dynamic::Detection d;
-  d.box = cv::Rect2f(100, 30, 120, 180);
+  const dynamic::Detection d = looseBox();
   dynamic::ObjectMaskParams p;
   p.behind = 0.5;
   p.radius = 10;
   EXPECT_EQ(cv::countNonZero(dynamic::objectMaskInBoxes({d}, bgr, depth, 0.0, p).mask), 120 * 180);
   p.colour = true;
   const auto m = dynamic::objectMaskInBoxes({d}, bgr, depth, 0.0, p);
-  EXPECT_EQ(cv::countNonZero(m.mask(object)), object.area());  // all of the object
+  EXPECT_EQ(cv::countNonZero(m.mask(kObject)), kObject.area());  // all of the object
   // The object widened by 10 px is 60 x 180; the quarter-size segmentation adds up to 4 px a side.
   EXPECT_GE(cv::countNonZero(m.mask), 60 * 180);
   EXPECT_LE(cv::countNonZero(m.mask), 68 * 180);

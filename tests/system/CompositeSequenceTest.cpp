@@ -3,6 +3,7 @@
 #include <fstream>
 #include <numeric>
 #include <regex>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -24,6 +25,17 @@ double recallOf(const std::filesystem::path& run_dir) {
   const std::string d = test::readFile(run_dir / "dynamic_eval.json");
   const auto at = d.find("\"recall\": ");
   return at == std::string::npos ? -1.0 : std::stod(d.substr(at + 10));
+}
+
+/// One number per frame from the dynamic.jsonl a run wrote (e.g. "T", "dropped").
+std::vector<double> perFrame(const std::filesystem::path& run_dir, const std::string& key) {
+  const std::string jsonl = test::readFile(run_dir / "dynamic.jsonl");
+  const std::regex value("\"" + key + "\": ([0-9.]+)");
+  std::vector<double> out;
+  for (auto it = std::sregex_iterator(jsonl.begin(), jsonl.end(), value); it != std::sregex_iterator(); ++it) {
+    out.push_back(std::stod((*it)[1]));
+  }
+  return out;
 }
 
 TEST(CompositeSequence, TkgStaysCloseToTheStaticOriginalWhileOrbSuffers) {
@@ -76,17 +88,8 @@ TEST(CompositeSequence, TkgStaysCloseToTheStaticOriginalWhileOrbSuffers) {
   // geometry check, covered frames - still read the boxes' share of the view (the paper's T):
   // the same boxes give the same T on every frame.
   runTkg("tkg_object", "--object-mask on");
-  const auto perFrame = [&](const std::string& name, const std::string& key) {
-    const std::string jsonl = test::readFile(tmp / name / "dynamic.jsonl");
-    const std::regex value("\"" + key + "\": ([0-9.]+)");
-    std::vector<double> out;
-    for (auto it = std::sregex_iterator(jsonl.begin(), jsonl.end(), value); it != std::sregex_iterator(); ++it) {
-      out.push_back(std::stod((*it)[1]));
-    }
-    return out;
-  };
-  EXPECT_EQ(perFrame("tkg_object", "T"), perFrame("tkg", "T"));
-  const auto dropped = perFrame("tkg", "dropped"), dropped_object = perFrame("tkg_object", "dropped");
+  EXPECT_EQ(perFrame(tmp / "tkg_object", "T"), perFrame(tmp / "tkg", "T"));
+  const auto dropped = perFrame(tmp / "tkg", "dropped"), dropped_object = perFrame(tmp / "tkg_object", "dropped");
   EXPECT_LT(std::accumulate(dropped_object.begin(), dropped_object.end(), 0.0),
             std::accumulate(dropped.begin(), dropped.end(), 0.0));
 
