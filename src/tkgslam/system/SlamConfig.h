@@ -32,7 +32,7 @@ struct TrackingParams {
   /// (degrees) or camera-centre distance (metres) in one frame is a jump no hand-held camera makes
   /// (the TUM ground truth: at most 3 deg / 1 cm per 30 Hz frame): wrong matches (e.g. a person
   /// the detector missed) won the optimisation. The frame is treated as untrackable instead.
-  /// <= 0 = off.
+  /// After n bridged frames the limits are n + 1 times these. <= 0 = off.
   double max_jump_deg = 6.0;
   double max_jump_m = 0.1;
   /// A frame whose dynamic-object boxes cover at least this share of the image (a person filling

@@ -124,8 +124,9 @@ class Tracker {
   /// Tracking resumed (or relocalised) after frames posed without a new last frame: their
   /// provisional records get the pose interpolated (by timestamp) between the last frame and this one.
   void interpolateBridgedRecords();
-  /// The tracked pose is further from the constant-velocity prediction than a camera moves.
-  bool poseJumped(const Pose& T_cw) const;
+  /// The tracked pose is further from the constant-velocity prediction than a camera moves in
+  /// `periods` frame periods (the tracking.max_jump_* limits are per period).
+  bool poseJumped(const Pose& T_cw, int periods) const;
 
   data::Map& map_;
   const camera::PinholeCamera& cam_;
