@@ -411,7 +411,8 @@ bool Tracker::poseJumped(const Pose& T_cw, int periods) const {
   const double deg = 180.0 / M_PI * Eigen::AngleAxisd(T_cw.linear() * P.linear().transpose()).angle();
   const double metres = (T_cw.inverse().translation() - P.inverse().translation()).norm();
   const auto& t = cfg_.tracking;
-  const bool jumped = (t.max_jump_deg > 0 && deg > periods * t.max_jump_deg) || (t.max_jump_m > 0 && metres > periods * t.max_jump_m);
+  const bool jumped = (t.max_jump_deg > 0 && deg > periods * t.max_jump_deg) ||
+                      (t.max_jump_m > 0 && metres > periods * t.max_jump_m);
   if (jumped) spdlog::debug("pose jumped {:.1f} deg / {:.3f} m from the motion model: not used", deg, metres);
   return jumped;
 }
