@@ -14,10 +14,20 @@ TEST(Hamming, CountsDifferingBits) {
   b.at<uchar>(0, 0) = 0xFF;   // 8 bits
   b.at<uchar>(0, 31) = 0x81;  // 2 bits
   EXPECT_EQ(data::descriptorDistance(a, b), 10);
+  // All 256 bits apart, and all but one (the counting must not wrap at a byte).
+  EXPECT_EQ(data::descriptorDistance(a, cv::Mat(1, 32, CV_8U, cv::Scalar(0xFF))), 256);
+  cv::Mat c(1, 32, CV_8U, cv::Scalar(0xFF));
+  c.at<uchar>(0, 17) = 0xFE;
+  EXPECT_EQ(data::descriptorDistance(a, c), 255);
   std::mt19937 rng(3);
-  for (int k = 0; k < 100; ++k) {
+  for (int k = 0; k < 1000; ++k) {
     cv::Mat x(1, 32, CV_8U), y(1, 32, CV_8U);
-    for (int i = 0; i < 32; ++i) x.at<uchar>(0, i) = uchar(rng()), y.at<uchar>(0, i) = uchar(rng());
+    // Also strongly biased bytes, for distances near 0 and near 256.
+    const unsigned bias = k % 3 == 0 ? 0u : (k % 3 == 1 ? 0xFFu : 0x5Au);
+    for (int i = 0; i < 32; ++i) {
+      x.at<uchar>(0, i) = uchar(rng());
+      y.at<uchar>(0, i) = uchar(k % 3 == 0 ? rng() : (x.at<uchar>(0, i) ^ bias ^ (rng() % 5 == 0 ? 1u << (rng() % 8) : 0u)));
+    }
     EXPECT_EQ(data::descriptorDistance(x, y), int(cv::norm(x, y, cv::NORM_HAMMING)));
   }
 }
