@@ -1,6 +1,6 @@
 // Benchmarks of the per-frame hot path on real fr1_xyz images: ORB extraction (640x480, 1000
 // features, 8 levels), frame feature construction, the blur measure, and descriptor matching
-// between two frames.
+// between two frames; and of local bundle adjustment on a synthetic window of its usual size.
 // Run: build/bin/tkgslam_bench   (needs ../shared next to the repository)
 #include <filesystem>
 
@@ -12,6 +12,7 @@
 #include "tkgslam/io/ConfigFile.h"
 #include "tkgslam/io/TumDataset.h"
 #include "tkgslam/match/OrbMatcher.h"
+#include "optimize/SyntheticBundle.h"  // tests/
 
 namespace {
 
@@ -110,6 +111,17 @@ void BM_DescriptorMatching(benchmark::State& state) {
   state.counters["matches"] = n;
 }
 BENCHMARK(BM_DescriptorMatching)->Unit(benchmark::kMillisecond);
+
+// Local mapping's bundle adjustment (robust pass, outlier removal, second pass) on 10 keyframes
+// (2 fixed) and 600 points seen by all, a third of the observations without depth.
+void BM_LocalBundleAdjustment(benchmark::State& state) {
+  const auto s = test::makeSyntheticBundle(10, 600, 0.05);
+  for (auto _ : state) {
+    auto problem = s.problem;
+    benchmark::DoNotOptimize(optimize::solveBundle(problem, s.K, {}));
+  }
+}
+BENCHMARK(BM_LocalBundleAdjustment)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
