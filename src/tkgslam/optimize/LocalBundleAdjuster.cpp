@@ -36,6 +36,8 @@ struct ReprojectionError {
   double s_;
 };
 
+constexpr size_t kMaxDenseSchurPoses = 40;
+
 double chi2Of(const BundleObservation& o, const PinholeIntrinsics& K, const Eigen::Quaterniond& q,
               const Vec3& t, const Vec3& p, bool& behind) {
   const Vec3 pc = q * p + t;
@@ -62,6 +64,8 @@ std::vector<char> solveBundle(BundleProblem& pb, const PinholeIntrinsics& K, con
     t[i] = pb.poses[i].translation();
   }
   std::vector<char> outlier(pb.observations.size(), 0);
+  size_t free_poses = 0;
+  for (size_t i = 0; i < nc; ++i) free_poses += !pb.fixed_pose[i];
 
   auto run = [&](int iterations, bool robust) {
     ceres::Problem::Options popts;
@@ -87,7 +91,10 @@ std::vector<char> solveBundle(BundleProblem& pb, const PinholeIntrinsics& K, con
     }
     if (problem.NumResidualBlocks() == 0) return;
     ceres::Solver::Options so;
-    so.linear_solver_type = ceres::SPARSE_SCHUR;
+    // A local window's reduced camera system is small (10 free keyframes: 60 x 60): dense is
+    // faster than CHOLMOD's sparse factorisation and its cell lookups (BA 70 -> 58 ms in
+    // tkgslam_bench). Large windows (a user's covisible_keyframes) stay sparse.
+    so.linear_solver_type = free_poses <= kMaxDenseSchurPoses ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;
     so.max_num_iterations = iterations;
     so.num_threads = opt.threads;
     so.logging_type = ceres::SILENT;
