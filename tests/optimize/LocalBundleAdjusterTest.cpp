@@ -5,6 +5,16 @@
 namespace tkgslam {
 namespace {
 
+double meanPointError(const test::SyntheticBundle& s) {
+  double sum = 0;
+  for (size_t p = 0; p < s.true_points.size(); ++p) sum += (s.problem.points[p] - s.true_points[p]).norm();
+  return sum / double(s.true_points.size());
+}
+
+double translationError(const test::SyntheticBundle& s, size_t camera) {
+  return (s.problem.poses[camera].translation() - s.true_poses[camera].translation()).norm();
+}
+
 // Eight keyframes (two fixed) and 300 points, a third of the observations monocular, 10 % gross
 // outliers: the free poses and the points must come back to the truth from a perturbed start and
 // the outliers be flagged - monocular and stereo residuals alike.
@@ -12,13 +22,11 @@ TEST(LocalBundleAdjuster, RecoversPosesAndPointsAndFlagsOutliers) {
   auto s = test::makeSyntheticBundle(8, 300, 0.10);
   const auto outlier = optimize::solveBundle(s.problem, s.K, {});
   for (size_t c = 2; c < s.true_poses.size(); ++c) {
-    const Pose& T = s.problem.poses[c];
-    EXPECT_LT((T.translation() - s.true_poses[c].translation()).norm(), 0.002) << "camera " << c;
-    EXPECT_LT(rotationAngle(T.linear() * s.true_poses[c].linear().transpose()), 0.1 * M_PI / 180) << "camera " << c;
+    EXPECT_LT(translationError(s, c), 0.002) << "camera " << c;
+    EXPECT_LT(rotationAngle(s.problem.poses[c].linear() * s.true_poses[c].linear().transpose()), 0.1 * M_PI / 180)
+        << "camera " << c;
   }
-  double point_error = 0;
-  for (size_t p = 0; p < s.true_points.size(); ++p) point_error += (s.problem.points[p] - s.true_points[p]).norm();
-  EXPECT_LT(point_error / double(s.true_points.size()), 0.005);  // started 0.03 off
+  EXPECT_LT(meanPointError(s), 0.005);  // started 0.03 off
   int mono_flagged = 0, stereo_flagged = 0, wrong = 0;
   for (size_t k = 0; k < outlier.size(); ++k) {
     wrong += outlier[k] != s.is_outlier[k];
@@ -35,12 +43,8 @@ TEST(LocalBundleAdjuster, MonocularOnlyObservationsTriangulate) {
   auto s = test::makeSyntheticBundle(6, 150, 0.0, 0.2);
   for (auto& o : s.problem.observations) o.u_right = -1;
   optimize::solveBundle(s.problem, s.K, {});
-  double point_error = 0;
-  for (size_t p = 0; p < s.true_points.size(); ++p) point_error += (s.problem.points[p] - s.true_points[p]).norm();
-  EXPECT_LT(point_error / double(s.true_points.size()), 0.01);  // started 0.03 off
-  for (size_t c = 2; c < s.true_poses.size(); ++c) {
-    EXPECT_LT((s.problem.poses[c].translation() - s.true_poses[c].translation()).norm(), 0.005) << "camera " << c;
-  }
+  EXPECT_LT(meanPointError(s), 0.01);  // started 0.03 off
+  for (size_t c = 2; c < s.true_poses.size(); ++c) EXPECT_LT(translationError(s, c), 0.005) << "camera " << c;
 }
 
 }  // namespace

@@ -28,6 +28,7 @@ inline SyntheticBundle makeSyntheticBundle(int cameras, int points, double outli
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> ux(-1.0, 1.0), uz(0.5, 3.0), u01(0, 1);
   std::normal_distribution<double> pixel(0.0, 0.1), step(0.0, 1.0);
+  const auto direction = [&] { return Vec3(step(rng), step(rng), step(rng)).normalized(); };
   for (int c = 0; c < cameras; ++c) {
     Pose T = Pose::Identity();
     T.linear() = Eigen::AngleAxisd(0.02 * c, Vec3(0.1, 1, 0.2).normalized()).toRotationMatrix();
@@ -35,8 +36,8 @@ inline SyntheticBundle makeSyntheticBundle(int cameras, int points, double outli
     s.true_poses.push_back(T);
     Pose start = T;
     if (c >= 2) {
-      start.linear() = Eigen::AngleAxisd(0.005, Vec3(step(rng), step(rng), step(rng)).normalized()).toRotationMatrix() * T.linear();
-      start.translation() += 0.01 * Vec3(step(rng), step(rng), step(rng)).normalized();
+      start.linear() = expSO3(0.005 * direction()) * T.linear();
+      start.translation() += 0.01 * direction();
     }
     s.problem.poses.push_back(start);
     s.problem.fixed_pose.push_back(c < 2);
@@ -45,14 +46,15 @@ inline SyntheticBundle makeSyntheticBundle(int cameras, int points, double outli
     const Vec3 pc(ux(rng), ux(rng) * 0.7, uz(rng));
     const Vec3 pw = s.true_poses[0].inverse() * pc;
     s.true_points.push_back(pw);
-    s.problem.points.push_back(pw + 0.03 * Vec3(step(rng), step(rng), step(rng)).normalized());
+    s.problem.points.push_back(pw + 0.03 * direction());
     for (int c = 0; c < cameras; ++c) {
       const Vec3 q = s.true_poses[size_t(c)] * pw;
       optimize::BundleObservation o;
       o.camera = c;
       o.point = p;
-      o.uv = Vec2(s.K.fx * q.x() / q.z() + s.K.cx + pixel(rng), s.K.fy * q.y() / q.z() + s.K.cy + pixel(rng));
-      o.u_right = (p + c) % 3 == 0 ? -1.0 : s.K.fx * q.x() / q.z() + s.K.cx - s.K.bf / q.z() + pixel(rng);
+      const double u = s.K.fx * q.x() / q.z() + s.K.cx, v = s.K.fy * q.y() / q.z() + s.K.cy;
+      o.uv = Vec2(u + pixel(rng), v + pixel(rng));
+      o.u_right = (p + c) % 3 == 0 ? -1.0 : u - s.K.bf / q.z() + pixel(rng);
       const bool outlier = u01(rng) < outlier_share;
       if (outlier) {
         o.uv += Vec2(40 + 60 * u01(rng), -40 - 60 * u01(rng));
