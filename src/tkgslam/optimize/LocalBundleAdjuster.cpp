@@ -1,5 +1,6 @@
 #include "tkgslam/optimize/LocalBundleAdjuster.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <ceres/ceres.h>
@@ -39,18 +40,14 @@ struct ReprojectionError {
 
 constexpr size_t kMaxDenseSchurPoses = 40;
 
+// The residual's squared norm: information x squared pixel error (the third row is 0 without depth).
 double chi2Of(const BundleObservation& o, const PinholeIntrinsics& K, const Eigen::Quaterniond& q,
               const Vec3& t, const Vec3& p, bool& behind) {
-  const Vec3 pc = q * p + t;
-  behind = pc.z() <= 0;
+  behind = (q * p + t).z() <= 0;
   if (behind) return 1e30;
-  const double u = K.fx * pc.x() / pc.z() + K.cx, v = K.fy * pc.y() / pc.z() + K.cy;
-  double e2 = (o.uv.x() - u) * (o.uv.x() - u) + (o.uv.y() - v) * (o.uv.y() - v);
-  if (o.u_right >= 0) {
-    const double er = o.u_right - (u - K.bf / pc.z());
-    e2 += er * er;
-  }
-  return e2 * o.information;
+  double r[3];
+  ReprojectionError(o, K)(q.coeffs().data(), t.data(), p.data(), r);
+  return r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
 }
 
 }  // namespace
@@ -65,8 +62,7 @@ std::vector<char> solveBundle(BundleProblem& pb, const PinholeIntrinsics& K, con
     t[i] = pb.poses[i].translation();
   }
   std::vector<char> outlier(pb.observations.size(), 0);
-  size_t free_poses = 0;
-  for (size_t i = 0; i < nc; ++i) free_poses += !pb.fixed_pose[i];
+  const auto free_poses = size_t(std::count(pb.fixed_pose.begin(), pb.fixed_pose.end(), 0));
 
   auto run = [&](int iterations, bool robust) {
     ceres::Problem::Options popts;
