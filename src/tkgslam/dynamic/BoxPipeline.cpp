@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iterator>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -32,18 +34,19 @@ BoxPipeline::~BoxPipeline() {
   if (pending_ && pending_->result.valid()) pending_->result.wait();
 }
 
-const FlowFrame* BoxPipeline::flowFrame(long frame) const {
-  for (const auto& [f, pyramid] : flow_frames_) {
+const FlowFrame* BoxPipeline::flowFrame(const FlowFrames& frames, long frame) {
+  for (const auto& [f, pyramid] : frames) {
     if (f == frame) return &pyramid;
   }
   return nullptr;
 }
 
-std::optional<BoxTracker::Moved> BoxPipeline::flowTo(long frame) const {
-  const FlowFrame* from = flowFrame(frame - 1);
-  const FlowFrame* to = flowFrame(frame);
+std::optional<BoxTracker::Moved> BoxPipeline::flowTo(const FlowFrames& frames, const BoxTracker& tracker,
+                                                     long frame) const {
+  const FlowFrame* from = flowFrame(frames, frame - 1);
+  const FlowFrame* to = flowFrame(frames, frame);
   if (!from || !to) return std::nullopt;
-  return flow_.propagate(*from, *to, tracker_.lastBoxes());
+  return flow_.propagate(*from, *to, tracker.lastBoxes());
 }
 
 void BoxPipeline::beginFrame(long index, const cv::Mat& bgr, const cv::Mat& depth_m, const cv::Mat& gray) {
@@ -81,6 +84,7 @@ void BoxPipeline::beginFrame(long index, const cv::Mat& bgr, const cv::Mat& dept
 }
 
 void BoxPipeline::launch() {
+  if (pending_) throw std::logic_error("BoxPipeline: a detector run is still pending");
   Pending p;
   if (!schedule_.lookahead) p.tracker_before = tracker_;  // consume() rewinds to it
   std::vector<cv::Mat> images;
@@ -89,21 +93,42 @@ void BoxPipeline::launch() {
     images.push_back(bgr);  // the task keeps its own references (cv::Mat is reference counted)
   }
   tile_frames_.clear();
-  p.result = std::async(std::launch::async, [this, images = std::move(images)] {
+  // Lookahead: the run finalizes its frames itself, from a copy of the state (the previous run
+  // is final by now) and of the pyramids it needs (cv::Mat headers; the caller may drop its own).
+  std::optional<Lookahead> state;
+  FlowFrames frames;
+  if (schedule_.lookahead) {
+    state = Lookahead{tracker_, final_through_, {}, 0.0};
+    for (const auto& entry : flow_frames_) {
+      if (entry.first >= final_through_) frames.push_back(entry);
+    }
+  }
+  p.result = std::async(std::launch::async, [this, images = std::move(images), tiles = p.tiles,
+                                             state = std::move(state), frames = std::move(frames),
+                                             image = image_]() mutable {
     const auto t0 = std::chrono::steady_clock::now();
-    auto dets = detector_->detectTiles(images);
-    return Result(std::move(dets), msSince(t0));
+    Result r;
+    r.per_tile = detector_->detectTiles(images);
+    r.detector_ms = msSince(t0);
+    if (state) {
+      const auto tt = std::chrono::steady_clock::now();
+      for (size_t j = 0; j < tiles.size(); ++j) finalizeThrough(*state, frames, tiles[j], r.per_tile[j], image);
+      state->tracker_ms = msSince(tt);
+      r.lookahead = std::move(state);
+    }
+    return r;
   });
   pending_ = std::move(p);
 }
 
-std::vector<cv::Rect2f> BoxPipeline::followBack(const cv::Rect2f& box, long k, long first, cv::Size image) const {
+std::vector<cv::Rect2f> BoxPipeline::followBack(const FlowFrames& frames, const cv::Rect2f& box, long k, long first,
+                                                cv::Size image) const {
   const cv::Rect2f frame_rect(0, 0, float(image.width), float(image.height));
   std::vector<cv::Rect2f> out;
   cv::Rect2f b = box;
   for (long f = k - 1; f >= first; --f) {
-    const FlowFrame* from = flowFrame(f + 1);
-    const FlowFrame* to = flowFrame(f);
+    const FlowFrame* from = flowFrame(frames, f + 1);
+    const FlowFrame* to = flowFrame(frames, f);
     if (!from || !to) break;
     const auto moved = flow_.propagate(*from, *to, {b});
     if (!moved[0]) break;
@@ -115,32 +140,36 @@ std::vector<cv::Rect2f> BoxPipeline::followBack(const cv::Rect2f& box, long k, l
   return out;
 }
 
-void BoxPipeline::predictThrough(long last, cv::Size image, std::vector<FrameBoxes>& out) {
-  for (long f = final_through_ + 1; f <= last; ++f) {
-    const auto moved = flowTo(f);
-    out.emplace_back(f, tracker_.predictAll(image, moved ? &*moved : nullptr));
+void BoxPipeline::predictThrough(Lookahead& state, const FlowFrames& frames, long last, cv::Size image,
+                                 std::vector<FrameBoxes>& out) const {
+  for (long f = state.through + 1; f <= last; ++f) {
+    const auto moved = flowTo(frames, state.tracker, f);
+    out.emplace_back(f, state.tracker.predictAll(image, moved ? &*moved : nullptr));
   }
-  final_through_ = std::max(final_through_, last);
+  state.through = std::max(state.through, last);
 }
 
 void BoxPipeline::finalize(Pending& p, BoxTimings& timings) {
   const auto tw = std::chrono::steady_clock::now();
-  auto [per_tile, ms] = p.result.get();
+  Result r = p.result.get();
   timings.wait_ms += msSince(tw);
-  timings.detector_ms = ms;
-  for (size_t j = 0; j < p.tiles.size(); ++j) finalizeThrough(p.tiles[j], per_tile[j], image_, timings);
+  timings.detector_ms = r.detector_ms;
+  Lookahead& state = *r.lookahead;
+  timings.tracker_ms += state.tracker_ms;
+  tracker_ = std::move(state.tracker);
+  final_through_ = state.through;
+  std::move(state.boxes.begin(), state.boxes.end(), std::back_inserter(final_boxes_));
 }
 
-void BoxPipeline::finalizeThrough(long frame, const std::vector<Detection>& detections, cv::Size image,
-                                  BoxTimings& timings) {
-  const auto tt = std::chrono::steady_clock::now();
-  const long start = final_through_;  // the box tracker's frame
-  std::vector<FrameBoxes> span;       // start + 1 .. frame - 1: forward boxes
-  predictThrough(frame - 1, image, span);
-  const auto moved = flowTo(frame);
-  BoxTracker probe = tracker_;  // where the tracks would be without the detection
+void BoxPipeline::finalizeThrough(Lookahead& state, const FlowFrames& frames, long frame,
+                                  const std::vector<Detection>& detections, cv::Size image) const {
+  const long start = state.through;  // the box tracker's frame
+  std::vector<FrameBoxes> span;      // start + 1 .. frame - 1: forward boxes
+  predictThrough(state, frames, frame - 1, image, span);
+  const auto moved = flowTo(frames, state.tracker, frame);
+  BoxTracker probe = state.tracker;  // where the tracks would be without the detection
   const auto predicted = probe.predictAll(image, moved ? &*moved : nullptr);
-  auto out = tracker_.update(detections, image, moved ? &*moved : nullptr);
+  auto out = state.tracker.update(detections, image, moved ? &*moved : nullptr);
   const cv::Rect2f frame_rect(0, 0, float(image.width), float(image.height));
   for (const auto& d : out) {
     if (d.predicted) continue;  // a missed detection: its forward boxes stand
@@ -161,7 +190,7 @@ void BoxPipeline::finalizeThrough(long frame, const std::vector<Detection>& dete
       }
     } else {
       // First seen now: it was walking in before the detector caught it.
-      const auto back = followBack(d.box, frame, start + 1, image);
+      const auto back = followBack(frames, d.box, frame, start + 1, image);
       for (size_t j = 0; j < back.size(); ++j) {
         Detection b = d;
         b.box = back[j];
@@ -173,11 +202,10 @@ void BoxPipeline::finalizeThrough(long frame, const std::vector<Detection>& dete
   for (auto& [f, boxes] : span) {
     boxes.erase(std::remove_if(boxes.begin(), boxes.end(), [](const Detection& b) { return b.box.area() <= 0; }),
                 boxes.end());
-    final_boxes_.emplace_back(f, std::move(boxes));
+    state.boxes.emplace_back(f, std::move(boxes));
   }
-  final_boxes_.emplace_back(frame, std::move(out));
-  final_through_ = frame;
-  timings.tracker_ms += msSince(tt);
+  state.boxes.emplace_back(frame, std::move(out));
+  state.through = frame;
 }
 
 std::vector<FrameBoxes> BoxPipeline::takeFinalBoxes(BoxTimings& timings) {
@@ -197,29 +225,32 @@ std::vector<FrameBoxes> BoxPipeline::flush(BoxTimings& timings) {
     pending_.reset();
   }
   const auto tt = std::chrono::steady_clock::now();
-  predictThrough(index_, image_, final_boxes_);
+  Lookahead state{std::move(tracker_), final_through_, {}, 0.0};
+  predictThrough(state, flow_frames_, index_, image_, final_boxes_);
+  tracker_ = std::move(state.tracker);
+  final_through_ = state.through;
   timings.tracker_ms += msSince(tt);
   return std::exchange(final_boxes_, {});
 }
 
 std::vector<Detection> BoxPipeline::consume(Pending& p, long index, cv::Size image, BoxTimings& timings) {
   const auto tw = std::chrono::steady_clock::now();
-  auto [per_tile, ms] = p.result.get();
-  auto& detections = per_tile.front();
+  Result r = p.result.get();
+  auto& detections = r.per_tile.front();
   timings.wait_ms += msSince(tw);
-  timings.detector_ms = ms;
+  timings.detector_ms = r.detector_ms;
   const auto tt = std::chrono::steady_clock::now();
   std::vector<Detection> out;
   if (schedule_.use_kalman) {
     // Rewind to the detection's frame, update there, predict the frames since (none when the
     // detection is used on its own frame).
     tracker_ = std::move(p.tracker_before);
-    auto moved = flowTo(p.frame());
+    auto moved = flowTo(flow_frames_, tracker_, p.frame());
     out = tracker_.update(detections, image, moved ? &*moved : nullptr);
     late_boxes_.clear();
     if (p.frame() < index) late_boxes_.emplace_back(p.frame(), out);
     for (long f = p.frame() + 1; f < index; ++f) {
-      moved = flowTo(f);
+      moved = flowTo(flow_frames_, tracker_, f);
       late_boxes_.emplace_back(f, tracker_.predictAll(image, moved ? &*moved : nullptr));
     }
   } else {
@@ -240,7 +271,7 @@ std::vector<Detection> BoxPipeline::frameBoxes(cv::Size image, BoxTimings& timin
   }
   if (!schedule_.use_kalman) return last_detections_;  // frames between detections reuse the last boxes
   const auto tt = std::chrono::steady_clock::now();
-  const auto moved = flowTo(index_);
+  const auto moved = flowTo(flow_frames_, tracker_, index_);
   auto out = tracker_.predictAll(image, moved ? &*moved : nullptr);
   timings.tracker_ms += msSince(tt);
   return out;

@@ -21,6 +21,10 @@
 //     detected at k1 are followed backwards by optical flow into the frames before, where they
 //     were already walking in but not yet detected. Costs the poses N + L - 1 frames of delay,
 //     not throughput: the detector of frame k1 still runs beside the tracking of earlier frames.
+//     Finalizing a run (the flow over the frames since the last one, the Kalman updates, the
+//     corrections) happens on the detector's thread right after the inference, on a copy of the
+//     box tracker and of the frames' pyramids taken at launch: the tracking thread only collects
+//     the boxes. The same operations in the same order, so the result does not depend on threads.
 //   tiles M > 1 (lookahead only): the detect_every-th frames are detected in groups of M with one
 //     detector run on an input that tiles the M frames (YoloDetector::detectTiles), started when
 //     the group's last frame begins; the run's latency counts from there. M = 4 and N = 2 cost one
@@ -52,7 +56,7 @@ struct BoxScheduleParams {
 struct BoxTimings {
   double detector_ms = -1;  ///< inference time of the detection that was consumed (its own thread)
   double wait_ms = 0;       ///< time the caller blocked waiting for the detector
-  double tracker_ms = 0;    ///< Kalman / Hungarian work
+  double tracker_ms = 0;    ///< Kalman / Hungarian / optical flow work (lookahead: partly on the detector's thread)
 };
 
 /// A frame index and its boxes.
@@ -87,7 +91,19 @@ class BoxPipeline {
   bool lookahead() const { return schedule_.lookahead; }
 
  private:
-  using Result = std::pair<std::vector<std::vector<Detection>>, double>;  // per tile, inference ms
+  using FlowFrames = std::deque<std::pair<long, FlowFrame>>;  ///< frame index and pyramid, oldest first
+  /// Lookahead: the box tracker and the last final frame, advanced by finalizing a run.
+  struct Lookahead {
+    BoxTracker tracker;
+    long through = -1;
+    std::vector<FrameBoxes> boxes;  ///< made final, oldest first
+    double tracker_ms = 0;
+  };
+  struct Result {
+    std::vector<std::vector<Detection>> per_tile;
+    double detector_ms = 0;
+    std::optional<Lookahead> lookahead;  ///< lookahead: the run already finalized
+  };
   struct Pending {
     std::vector<long> tiles;  ///< the frames detected, oldest first
     long frame() const { return tiles.back(); }  ///< the run was started on its last tile
@@ -98,28 +114,33 @@ class BoxPipeline {
   /// Applies a finished detection of frame p.frame and predicts forward to just before `index`;
   /// returns the boxes of frame p.frame (the box tracker's output there).
   std::vector<Detection> consume(Pending& p, long index, cv::Size image, BoxTimings& timings);
-  /// The tracks' boxes moved by optical flow from frame-1 to frame (nullopt: flow off or a
-  /// frame not kept).
-  std::optional<BoxTracker::Moved> flowTo(long frame) const;
-  const FlowFrame* flowFrame(long frame) const;
-  /// Starts the detector on the frames in tile_frames_ (which it empties).
+  /// The boxes of `tracker`'s tracks moved by optical flow from frame-1 to frame (nullopt: flow
+  /// off or a frame not in `frames`).
+  std::optional<BoxTracker::Moved> flowTo(const FlowFrames& frames, const BoxTracker& tracker, long frame) const;
+  static const FlowFrame* flowFrame(const FlowFrames& frames, long frame);
+  /// Starts the detector on the frames in tile_frames_ (which it empties); with lookahead the
+  /// run also finalizes its frames (on its thread, from the state at launch).
   void launch();
-  /// Lookahead: waits for the run and finalizes the frames through its last tile.
+  /// Lookahead: waits for the run and takes the boxes it made final and the tracker after it.
   void finalize(Pending& p, BoxTimings& timings);
-  /// Lookahead: the boxes of the frames after final_through_ up to `frame`, which has the
-  /// detections `detections` (see the class comment), appended to final_boxes_.
-  void finalizeThrough(long frame, const std::vector<Detection>& detections, cv::Size image, BoxTimings& timings);
-  /// Lookahead: predicted boxes for final_through_ + 1 .. last (no detection), made final.
-  void predictThrough(long last, cv::Size image, std::vector<FrameBoxes>& out);
+  /// Lookahead: the boxes of the frames after state.through up to `frame`, which has the
+  /// detections `detections` (see the class comment), appended to state.boxes. Touches no
+  /// member but the const flow_: runs on the detector's thread.
+  void finalizeThrough(Lookahead& state, const FlowFrames& frames, long frame,
+                       const std::vector<Detection>& detections, cv::Size image) const;
+  /// Lookahead: predicted boxes for state.through + 1 .. last (no detection), made final.
+  void predictThrough(Lookahead& state, const FlowFrames& frames, long last, cv::Size image,
+                      std::vector<FrameBoxes>& out) const;
   /// Lookahead: a box first detected on frame k followed back by flow over frames k-1 .. first;
   /// one box per frame reached, newest first (stops where the flow loses it).
-  std::vector<cv::Rect2f> followBack(const cv::Rect2f& box, long k, long first, cv::Size image) const;
+  std::vector<cv::Rect2f> followBack(const FlowFrames& frames, const cv::Rect2f& box, long k, long first,
+                                     cv::Size image) const;
 
   std::unique_ptr<YoloDetector> detector_;
   BoxScheduleParams schedule_;
   BoxTracker tracker_;
   BoxFlow flow_;
-  std::deque<std::pair<long, FlowFrame>> flow_frames_;  ///< the last frames' pyramids, oldest first
+  FlowFrames flow_frames_;  ///< the last frames' pyramids, oldest first
   std::vector<Detection> last_detections_;  ///< without Kalman: reused until the next detection
   std::optional<Pending> pending_;
   std::vector<std::pair<long, cv::Mat>> tile_frames_;  ///< frames waiting for the next run (BGR)
