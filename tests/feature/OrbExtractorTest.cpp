@@ -84,6 +84,28 @@ TEST(OrbExtractor, DescriptorsAreOpenCvsOrbOnTheFullImageAtEachKeypointsOctave) 
   EXPECT_EQ(differing, 0) << "of " << expected.rows;
 }
 
+TEST(OrbExtractor, KeypointsInPartOfTheImageGetTheWholeImagesDescriptors) {
+  // Each level's keypoints are described on the part of the level around them: the free window
+  // in the middle leaves that part's edges inside the image on every side.
+  TKGSLAM_REQUIRE_SHARED();
+  const cv::Mat img = firstImage();
+  const feature::OrbParams params;
+  feature::OrbExtractor ex(params);
+  cv::Mat skip(img.size(), CV_8U, cv::Scalar(255));
+  skip(cv::Rect(160, 120, 320, 240)).setTo(0);
+  const auto f = ex.extract(img, skip);
+  ASSERT_GT(f.keypoints.size(), 100u);
+  auto orb = cv::ORB::create(params.features, float(params.scale_factor), params.levels, 16, 0, 2,
+                             cv::ORB::FAST_SCORE, 31, params.fast_threshold);
+  std::vector<cv::KeyPoint> kps = f.keypoints;
+  cv::Mat expected;
+  orb->compute(img, kps, expected);
+  ASSERT_EQ(kps.size(), f.keypoints.size());
+  int differing = 0;
+  for (int i = 0; i < expected.rows; ++i) differing += cv::norm(expected.row(i), f.descriptors.row(i), cv::NORM_HAMMING) > 0;
+  EXPECT_EQ(differing, 0) << "of " << expected.rows;
+}
+
 TEST(OrbExtractor, ASkipMaskSendsTheWholeBudgetElsewhere) {
   TKGSLAM_REQUIRE_SHARED();
   const cv::Mat img = firstImage();

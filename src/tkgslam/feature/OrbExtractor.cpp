@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <list>
-#include <map>
-#include <tuple>
+#include <cstdint>
+#include <cstring>
+#include <unordered_map>
 
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
@@ -254,10 +255,27 @@ cv::Mat OrbExtractor::describeLevel(const cv::Mat& level_image, const std::vecto
   // cv::ORB on the level image itself, the keypoints as its level 0: the same descriptors as from
   // the full image at their octave (it would resize the image to that level exactly as extract()
   // did, then blur it), without building the pyramid again.
+  // It blurs and pads all of the image it is given, so it gets only the part around the
+  // keypoints: an ROI is padded from the pixels around it, and with a margin wider than the
+  // rotated patch (ceil(15 sqrt 2) = 22 px) every pixel a descriptor reads is blurred from the
+  // same neighbours as in the whole image, so the descriptors are the same. (Matters for the
+  // refill, whose new keypoints lie outside the boxes.)
+  float x0 = kps[0].pt.x, y0 = kps[0].pt.y, x1 = x0, y1 = y0;
+  for (const auto& kp : kps) {
+    x0 = std::min(x0, kp.pt.x), y0 = std::min(y0, kp.pt.y);
+    x1 = std::max(x1, kp.pt.x), y1 = std::max(y1, kp.pt.y);
+  }
+  constexpr int kMargin = kPatchSize + 1;
+  const cv::Point tl(std::max(0, int(std::floor(x0)) - kMargin), std::max(0, int(std::floor(y0)) - kMargin));
+  const cv::Point br(std::min(level_image.cols, int(std::ceil(x1)) + kMargin + 1),
+                     std::min(level_image.rows, int(std::ceil(y1)) + kMargin + 1));
   std::vector<cv::KeyPoint> at_level = kps;
-  for (auto& kp : at_level) kp.octave = 0;
+  for (auto& kp : at_level) {
+    kp.octave = 0;
+    kp.pt -= cv::Point2f(float(tl.x), float(tl.y));  // exact: an integer shift of a smaller float
+  }
   cv::Mat descriptors;
-  descriptor_->compute(level_image, at_level, descriptors);
+  descriptor_->compute(level_image(cv::Rect(tl, br)), at_level, descriptors);
   if (at_level.size() != kps.size()) {
     throw std::logic_error("ORB descriptor computation dropped keypoints");  // border mismatch
   }
@@ -314,11 +332,16 @@ OrbFeatures OrbExtractor::extractAgain(const OrbDetections& detections, const cv
     throw InputError("ORB extraction: the previous features need one descriptor per keypoint");
   }
   // Keypoints are identified by level and position: the same corner gives the same keypoint.
-  using Key = std::tuple<int, float, float>;
-  std::map<Key, int> known;
+  const auto key = [](const cv::Point2f& p) {
+    uint32_t x, y;
+    std::memcpy(&x, &p.x, sizeof x);
+    std::memcpy(&y, &p.y, sizeof y);
+    return (uint64_t(x) << 32) | y;
+  };
+  std::vector<std::unordered_map<uint64_t, int>> known(params_.levels);  // per level: position -> row
   for (size_t i = 0; i < previous.keypoints.size(); ++i) {
     const auto& kp = previous.keypoints[i];
-    known.emplace(Key{kp.octave, kp.pt.x, kp.pt.y}, int(i));
+    if (kp.octave >= 0 && kp.octave < params_.levels) known[kp.octave].emplace(key(kp.pt), int(i));
   }
   OrbFeatures out;
   std::vector<cv::Mat> rows;
@@ -329,9 +352,9 @@ OrbFeatures OrbExtractor::extractAgain(const OrbDetections& detections, const cv
     std::vector<int> reused;          // per keypoint: row of previous.descriptors, or -1
     std::vector<cv::KeyPoint> fresh;  // the others, described here (level coordinates)
     for (size_t k = 0; k < kps.size(); ++k) {
-      const auto it = known.find(Key{at0[k].octave, at0[k].pt.x, at0[k].pt.y});
-      reused.push_back(it == known.end() ? -1 : it->second);
-      if (it == known.end()) fresh.push_back(kps[k]);
+      const auto it = known[l].find(key(at0[k].pt));
+      reused.push_back(it == known[l].end() ? -1 : it->second);
+      if (it == known[l].end()) fresh.push_back(kps[k]);
     }
     const cv::Mat fresh_descriptors = describeLevel(detections.levels[l], fresh);
     for (size_t k = 0, next_fresh = 0; k < kps.size(); ++k) {
