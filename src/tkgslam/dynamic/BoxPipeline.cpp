@@ -99,9 +99,7 @@ void BoxPipeline::launch() {
   FlowFrames frames;
   if (schedule_.lookahead) {
     state = Lookahead{tracker_, final_through_, {}, 0.0};
-    for (const auto& entry : flow_frames_) {
-      if (entry.first >= final_through_) frames.push_back(entry);
-    }
+    frames = flow_frames_;  // beginFrame keeps exactly those from final_through_ on
   }
   p.result = std::async(std::launch::async, [this, images = std::move(images), tiles = p.tiles,
                                              state = std::move(state), frames = std::move(frames),

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <list>
 #include <cstdint>
 #include <cstring>
+#include <list>
 #include <unordered_map>
 
 #include <fmt/format.h>
