@@ -105,6 +105,7 @@ int runSlam(const RunOptions& o) {
   std::printf("tkgslam run: %d frames from %s (%s, dynamic mode %s)\n", n, o.dataset.c_str(),
               config.deterministic ? "deterministic" : "threaded", toString(config.dynamic.mode));
   int skipped = 0, lost = 0, predicted = 0, blurred = 0, segments = 0, reanchored = 0, processed = 0;
+  int interpolated = 0;  // lost frames posed by interpolation once relocalised
   // Frames that produced no pose, only a predicted one or were blurred, and why: "timestamp status reason".
   std::ofstream frame_log(out / "frame_log.txt");
   frame_log << "# frames without a tracked pose, and other events: timestamp status reason\n";
@@ -123,6 +124,12 @@ int runSlam(const RunOptions& o) {
       frame_log << fmt::format("{:.6f} {} {}\n", f.timestamp, uninit ? "not_initialised" : "lost",
                                uninit ? "too few keypoints with depth to start a map"
                                       : "too few matches to track or relocalise");
+    }
+    for (double t : f.result.interpolated_lost) {
+      ++interpolated;
+      frame_log << fmt::format(
+          "{:.6f} interpolated lost, then posed between the frames tracked either side (relocalised at {:.6f})\n", t,
+          f.timestamp);
     }
     if (f.result.predicted) {
       ++predicted;
@@ -212,18 +219,21 @@ int runSlam(const RunOptions& o) {
   const double ratio = n > 0 ? double(traj.size()) / n : 0.0;
   writeText(out / "run.json",
             fmt::format("{{\"dataset\": \"{}\", \"config\": \"{}\", \"mode\": \"{}\", \"deterministic\": {}, "
-                        "\"frames\": {}, \"tracked\": {}, \"tracked_ratio\": {:.4f}, \"predicted\": {}, \"blurred\": {}, \"skipped\": {}, "
+                        "\"frames\": {}, \"tracked\": {}, \"tracked_ratio\": {:.4f}, \"predicted\": {}, "
+                        "\"interpolated_lost\": {}, \"blurred\": {}, \"skipped\": {}, "
                         "\"keyframes\": {}, "
                         "\"map_points\": {}, \"mean_ms_per_frame\": {:.2f}, \"median_ms_per_frame\": {:.2f}, "
                         "\"ratio_threshold\": {}}}\n",
                         std::filesystem::absolute(o.dataset).lexically_normal().string(),
                         std::filesystem::absolute(o.config).lexically_normal().string(), toString(config.dynamic.mode),
-                        config.deterministic ? "true" : "false", n, traj.size(), ratio, predicted, blurred, skipped, slam.keyFrameCount(),
+                        config.deterministic ? "true" : "false", n, traj.size(), ratio, predicted, interpolated, blurred, skipped,
+                        slam.keyFrameCount(),
                         slam.mapPointCount(), slam.timing().mean("total"), slam.timing().median("total"),
                         config.dynamic.geometry.ratio_threshold));
-  std::printf("frames %d, tracked %zu (%.2f %%; %d of them predicted), blurred %d, skipped %d (unreadable), lost %d, "
-              "keyframes %zu, map points %zu%s\n",
-              n, traj.size(), 100.0 * ratio, predicted, blurred, skipped, lost, slam.keyFrameCount(), slam.mapPointCount(),
+  std::printf("frames %d, tracked %zu (%.2f %%; %d of them predicted, %d lost and then interpolated), blurred %d, "
+              "skipped %d (unreadable), lost %d, keyframes %zu, map points %zu%s\n",
+              n, traj.size(), 100.0 * ratio, predicted, interpolated, blurred, skipped, lost, slam.keyFrameCount(),
+              slam.mapPointCount(),
               skipped + lost + predicted + blurred > 0 ? " - see frame_log.txt" : "");
   if (segments > 0) {
     std::printf("tracking was lost for good %d time(s): %d new map segment(s), %d re-anchored to the one before\n",

@@ -160,7 +160,7 @@ TEST(FaultTolerance, ShortUntrackableGapsAreBridgedByTheMotionModel) {
 
   std::string out;
   ASSERT_EQ(runSequence(tmp.path(), "out", "", out), 0) << out;
-  EXPECT_NE(out.find("tracked 150 (100.00 %; 6 of them predicted)"), std::string::npos) << out;
+  EXPECT_NE(out.find("tracked 150 (100.00 %; 6 of them predicted, 0 lost and then interpolated)"), std::string::npos) << out;
   const std::string log = test::readFile(tmp / "out" / "frame_log.txt");
   EXPECT_EQ(log.find(" lost "), std::string::npos) << log;
   EXPECT_EQ(log.find("new_segment"), std::string::npos) << log;
@@ -173,11 +173,19 @@ TEST(FaultTolerance, ShortUntrackableGapsAreBridgedByTheMotionModel) {
     EXPECT_LT(ate.errors[nearestPose(ate, src.entry(i).rgb_timestamp)], 0.04) << "frame " << i;
   }
 
-  // Without the bridge (ORB-SLAM2's behaviour) the black frames are lost.
+  // Without the bridge (ORB-SLAM2's behaviour) the black frames are lost; relocalised on the next
+  // frame, they get poses interpolated between the frames either side.
   ASSERT_EQ(runSequence(tmp.path(), "strict", "\ntracking:\n  max_predicted_frames: 0\n", out), 0) << out;
+  EXPECT_NE(out.find("tracked 150 (100.00 %; 0 of them predicted, 6 lost and then interpolated)"), std::string::npos)
+      << out;
   const std::string strict_log = test::readFile(tmp / "strict" / "frame_log.txt");
+  const auto strict_ate =
+      eval::computeAte(gt, io::readTumTrajectory((tmp / "strict" / "trajectory.txt").string()));
   for (int i : black) {
-    EXPECT_NE(strict_log.find(fmt::format("{:.6f} lost", src.entry(i).rgb_timestamp)), std::string::npos) << i;
+    const double t = src.entry(i).rgb_timestamp;
+    EXPECT_NE(strict_log.find(fmt::format("{:.6f} lost", t)), std::string::npos) << i;
+    EXPECT_NE(strict_log.find(fmt::format("{:.6f} interpolated", t)), std::string::npos) << i;
+    EXPECT_LT(strict_ate.errors[nearestPose(strict_ate, t)], 0.04) << "frame " << i;
   }
 }
 

@@ -17,6 +17,8 @@ SlamConfig fr1Config() { return io::loadConfig((test::sourceDir() / "configs/tum
 
 struct FrameOutcome {
   bool tracked = false, predicted = false, covered = false, keyframe = false;
+  bool in_trajectory = false;  ///< the frame has a pose in the trajectory at the end of the run
+  int interpolated_lost = 0;   ///< lost frames before this one that got poses when it relocalised
   double timestamp = 0;
   Vec3 online = Vec3::Zero();  ///< camera centre when the frame was tracked (world, metres)
   Vec3 saved = Vec3::Zero();   ///< ... in the trajectory at the end of the run
@@ -60,14 +62,16 @@ std::vector<FrameOutcome> trackWithCover(double covered_ratio, int frames, int c
     }
     const auto r = tracker.track(std::move(frame), mapping.idle(), mapping.queued(), readmit);
     if (r.new_keyframe) mapping.insert(r.new_keyframe);
-    FrameOutcome o{r.tracked, r.predicted, r.covered, r.new_keyframe != nullptr, images.timestamp};
+    FrameOutcome o{r.tracked, r.predicted, r.covered, r.new_keyframe != nullptr};
+    o.timestamp = images.timestamp;
+    o.interpolated_lost = int(r.interpolated_lost.size());
     if (r.tracked) o.online = centreOf(tracker.records().back());
     out.push_back(o);
   }
   mapping.drain();
   for (const auto& rec : tracker.records()) {
     for (auto& o : out) {
-      if (o.timestamp == rec.timestamp) o.saved = centreOf(rec);
+      if (o.timestamp == rec.timestamp) o.saved = centreOf(rec), o.in_trajectory = true;
     }
   }
   return out;
@@ -100,7 +104,7 @@ TEST(Tracker, FramesAPersonFillsAreBridgedAsLongAsBlurredOnesNearWhereTheCameraW
   for (int i = kTo; i < kFrames; ++i) EXPECT_TRUE(bridged[i].tracked && !bridged[i].predicted) << i;
 }
 
-TEST(Tracker, FramesBridgedBeforeALossAreInterpolatedOnceRelocalisationFindsTheCamera) {
+TEST(Tracker, FramesBridgedBeforeALossAndTheLostOnesAreInterpolatedOnceRelocalisationFindsTheCamera) {
   TKGSLAM_REQUIRE_SHARED();
   // 11 covered frames: the first 3 x max_predicted_frames (9) are bridged, the last 2 lost; the
   // first uncovered frame relocalises.
@@ -112,7 +116,10 @@ TEST(Tracker, FramesBridgedBeforeALossAreInterpolatedOnceRelocalisationFindsTheC
   for (int i = kFrom; i < kTo; ++i) {
     ASSERT_TRUE(clear[i].tracked) << i;
     if (i >= kFrom + bridge) {
+      // Lost when tracked, but posed between the frames either side once relocalised.
       EXPECT_FALSE(lost[i].tracked) << i;
+      ASSERT_TRUE(lost[i].in_trajectory) << i;
+      EXPECT_LT((lost[i].saved - clear[i].saved).norm(), 0.015) << i;
       continue;
     }
     ASSERT_TRUE(lost[i].tracked && lost[i].predicted) << i;
@@ -121,9 +128,27 @@ TEST(Tracker, FramesBridgedBeforeALossAreInterpolatedOnceRelocalisationFindsTheC
     EXPECT_LT((lost[i].saved - clear[i].saved).norm(), 0.015) << i;
   }
   ASSERT_TRUE(lost[kTo].tracked && !lost[kTo].predicted);
+  EXPECT_EQ(lost[kTo].interpolated_lost, 2);
   // Without the interpolation the saved poses stay the extrapolated ones (measured: 0.094 m summed
   // against 0.095 m online; bundle adjustment moves their reference keyframe a little).
   EXPECT_LT(saved_error, 0.8 * online_error) << "online " << online_error << " m, saved " << saved_error << " m";
+}
+
+TEST(Tracker, FramesLostLongerThanTheRelocalisationAttemptsGetNoPose) {
+  TKGSLAM_REQUIRE_SHARED();
+  // 9 bridged frames, then relocalization_attempts + 2 lost ones: too long a gap to interpolate.
+  const auto& t = fr1Config().tracking;
+  const int bridge = 3 * t.max_predicted_frames, n_lost = t.relocalization_attempts + 2;
+  const int kFrames = 70, kFrom = 40, kTo = kFrom + bridge + n_lost;
+  const auto lost = trackWithCover(0.9, kFrames, kFrom, kTo);
+  for (int i = kFrom + bridge; i < kTo; ++i) {
+    EXPECT_FALSE(lost[i].tracked) << i;
+    EXPECT_FALSE(lost[i].in_trajectory) << i;
+  }
+  ASSERT_TRUE(lost[kTo].tracked);  // relocalised (the covered frames could not start a new map)
+  EXPECT_EQ(lost[kTo].interpolated_lost, 0);
+  // The bridged frames keep their motion-model poses, as before this rule.
+  for (int i = kFrom; i < kFrom + bridge; ++i) EXPECT_TRUE(lost[i].in_trajectory) << i;
 }
 
 TEST(Tracker, FramesOnlyReadmittedKeypointsTrackNeedMoreInliersAndMakeNoKeyframes) {

@@ -142,8 +142,21 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     if (!frame.reference) frame.reference = reference_kf_;
     records_.push_back({frame.timestamp, frame.reference, frame.T_cw * frame.reference->T_wc()});
     // Also when relocalised soon after a loss: frames bridged before it still hold the motion
-    // model's extrapolation, which drifts with every frame (extreme_s32 composite: 26 cm after 10).
-    if (gap > 0 || (after_loss && lost_frames <= cfg_.tracking.relocalization_attempts)) interpolateBridgedRecords();
+    // model's extrapolation, which drifts with every frame (extreme_s32 composite: 26 cm after 10),
+    // and the lost frames themselves - at most relocalization_attempts of them - get their poses
+    // the same way (people filling the view for half a second: 9 bridged + 5 lost frames).
+    const bool soon_after_loss = after_loss && lost_frames <= cfg_.tracking.relocalization_attempts;
+    const size_t n_lost = soon_after_loss ? lost_timestamps_.size() : 0;
+    for (size_t k = 0; k < n_lost; ++k) {
+      records_.insert(records_.end() - 1, {lost_timestamps_[k], frame.reference, Pose::Identity(), true});
+    }
+    if ((gap > 0 || soon_after_loss) && !interpolateBridgedRecords() && n_lost > 0) {
+      // Nothing to interpolate from (no tracked frame before the loss): the lost frames stay lost.
+      records_.erase(records_.end() - 1 - long(n_lost), records_.end() - 1);
+    } else if (n_lost > 0) {
+      result.interpolated_lost = lost_timestamps_;
+    }
+    lost_timestamps_.clear();
     result.tracked = true;
     result.inliers = matches_inliers_;
     last_frame_ = std::make_unique<Frame>(std::move(frame));
@@ -172,6 +185,11 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
   predicted_frames_ = 0;
   gap_frames_ = 0;
   ++lost_frames_;
+  if (lost_frames_ <= cfg_.tracking.relocalization_attempts) {
+    lost_timestamps_.push_back(frame.timestamp);
+  } else {
+    lost_timestamps_.clear();  // too long a gap to interpolate across
+  }
   temporal_points_.clear();
   if (lost_frames_ > cfg_.tracking.relocalization_attempts && !result.blurred && canInitialize(frame)) {
     // Relocalisation keeps failing on a frame good enough to start a map: start a new map segment
@@ -237,6 +255,7 @@ bool Tracker::initialize(Frame& frame, bool new_segment) {
   local_points_ = map_.mapPoints();
   state_ = TrackingState::Ok;
   lost_frames_ = 0;
+  lost_timestamps_.clear();  // a new map: no pose to interpolate from
   has_velocity_ = false;  // the next frame is tracked against this keyframe
   records_.push_back({frame.timestamp, kf, Pose::Identity()});
   last_frame_ = std::make_unique<Frame>(frame);
@@ -384,18 +403,18 @@ Pose Tracker::predictPose() const {
   return orthonormalized(T);
 }
 
-void Tracker::interpolateBridgedRecords() {
+bool Tracker::interpolateBridgedRecords() {
   // The records since the last frame are the provisional ones before this frame's: every frame
-  // posed in between (bridged or blurred) added one; lost frames add none.
+  // posed in between (bridged or blurred) added one, and so did the lost frames track() put in.
   const size_t end = records_.size() - 1;
   size_t gap = 0;
   while (gap < end && records_[end - 1 - gap].provisional) ++gap;
-  if (gap == 0 || gap == end) return;  // nothing bridged, or no tracked record before it
+  if (gap == 0 || gap == end) return false;  // nothing bridged, or no tracked record before it
   const FrameRecord& a = records_[end - gap - 1];
   const FrameRecord& b = records_[end];
-  if (a.timestamp != last_frame_->timestamp || !(b.timestamp > a.timestamp)) return;
+  if (a.timestamp != last_frame_->timestamp || !(b.timestamp > a.timestamp)) return false;
   const auto usable = [](const FrameRecord& r) { return r.reference && !r.reference->bad; };
-  if (!usable(a) || !usable(b)) return;
+  if (!usable(a) || !usable(b)) return false;
   const Pose T_a = a.T_cw(), T_b = b.T_cw();
   for (size_t k = end - gap; k < end; ++k) {
     FrameRecord& r = records_[k];
@@ -404,6 +423,7 @@ void Tracker::interpolateBridgedRecords() {
     r.T_cr = interpolatePose(T_a, T_b, s) * r.reference->T_wc();
     r.provisional = false;
   }
+  return true;
 }
 
 bool Tracker::poseJumped(const Pose& T_cw, int periods) const {

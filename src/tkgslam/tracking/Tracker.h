@@ -40,6 +40,9 @@ struct TrackResult {
   /// The tracked pose jumped away from the motion model's prediction (TrackingParams::max_jump_deg)
   /// and was not used; the frame was then bridged or lost like an untrackable one.
   bool jump_rejected = false;
+  /// Relocalised soon after a loss: the timestamps of the frames lost since the last tracked
+  /// frame, which now have poses interpolated between the two (see Tracker::track).
+  std::vector<double> interpolated_lost;
 };
 
 /// A frame's pose stored relative to its reference keyframe, so that later keyframe
@@ -123,7 +126,8 @@ class Tracker {
   Pose predictPose() const;
   /// Tracking resumed (or relocalised) after frames posed without a new last frame: their
   /// provisional records get the pose interpolated (by timestamp) between the last frame and this one.
-  void interpolateBridgedRecords();
+  /// False if there was nothing to interpolate from (the records are left as they are).
+  bool interpolateBridgedRecords();
   /// The tracked pose is further from the constant-velocity prediction than a camera moves in
   /// `periods` frame periods (the tracking.max_jump_* limits are per period).
   bool poseJumped(const Pose& T_cw, int periods) const;
@@ -146,6 +150,9 @@ class Tracker {
   bool has_velocity_ = false;
   long last_reloc_frame_ = -1000;
   int lost_frames_ = 0;
+  /// Timestamps of the frames lost since the last tracked one, while relocalisation may still
+  /// find the camera soon enough for them to be interpolated (at most relocalization_attempts).
+  std::vector<double> lost_timestamps_;
   int predicted_frames_ = 0;  ///< sharp frames in a row bridged by the motion model
   /// Frames posed since last_frame_ without replacing it (predicted ones, blurred tracked ones).
   int gap_frames_ = 0;
