@@ -160,7 +160,8 @@ TEST(FaultTolerance, ShortUntrackableGapsAreBridgedByTheMotionModel) {
 
   std::string out;
   ASSERT_EQ(runSequence(tmp.path(), "out", "", out), 0) << out;
-  EXPECT_NE(out.find("tracked 150 (100.00 %; 6 of them predicted, 0 lost and then interpolated)"), std::string::npos) << out;
+  EXPECT_NE(out.find("tracked 150 (100.00 %; 6 of them predicted, 0 lost and then interpolated)"), std::string::npos)
+      << out;
   const std::string log = test::readFile(tmp / "out" / "frame_log.txt");
   EXPECT_EQ(log.find(" lost "), std::string::npos) << log;
   EXPECT_EQ(log.find("new_segment"), std::string::npos) << log;

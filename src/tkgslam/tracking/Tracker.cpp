@@ -146,15 +146,9 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     // and the lost frames themselves - at most relocalization_attempts of them - get their poses
     // the same way (people filling the view for half a second: 9 bridged + 5 lost frames).
     const bool soon_after_loss = after_loss && lost_frames <= cfg_.tracking.relocalization_attempts;
-    const size_t n_lost = soon_after_loss ? lost_timestamps_.size() : 0;
-    for (size_t k = 0; k < n_lost; ++k) {
-      records_.insert(records_.end() - 1, {lost_timestamps_[k], frame.reference, Pose::Identity(), true});
-    }
-    if ((gap > 0 || soon_after_loss) && !interpolateBridgedRecords() && n_lost > 0) {
-      // Nothing to interpolate from (no tracked frame before the loss): the lost frames stay lost.
-      records_.erase(records_.end() - 1 - long(n_lost), records_.end() - 1);
-    } else if (n_lost > 0) {
-      result.interpolated_lost = lost_timestamps_;
+    // (lost_timestamps_ is empty unless soon after a loss: it keeps no more than that many.)
+    if ((gap > 0 || soon_after_loss) && interpolateBridgedRecords(lost_timestamps_) && !lost_timestamps_.empty()) {
+      result.interpolated_lost = std::move(lost_timestamps_);
     }
     lost_timestamps_.clear();
     result.tracked = true;
@@ -403,23 +397,28 @@ Pose Tracker::predictPose() const {
   return orthonormalized(T);
 }
 
-bool Tracker::interpolateBridgedRecords() {
+bool Tracker::interpolateBridgedRecords(const std::vector<double>& lost) {
   // The records since the last frame are the provisional ones before this frame's: every frame
-  // posed in between (bridged or blurred) added one, and so did the lost frames track() put in.
+  // posed in between (bridged or blurred) added one. Lost frames have none; they get theirs here.
   const size_t end = records_.size() - 1;
   size_t gap = 0;
   while (gap < end && records_[end - 1 - gap].provisional) ++gap;
-  if (gap == 0 || gap == end) return false;  // nothing bridged, or no tracked record before it
+  if ((gap == 0 && lost.empty()) || gap == end) return false;  // nothing to fill, or no tracked record before it
   const FrameRecord& a = records_[end - gap - 1];
   const FrameRecord& b = records_[end];
   if (a.timestamp != last_frame_->timestamp || !(b.timestamp > a.timestamp)) return false;
   const auto usable = [](const FrameRecord& r) { return r.reference && !r.reference->bad; };
   if (!usable(a) || !usable(b)) return false;
   const Pose T_a = a.T_cw(), T_b = b.T_cw();
-  for (size_t k = end - gap; k < end; ++k) {
+  const double t_a = a.timestamp, t_b = b.timestamp;
+  const auto reference = b.reference;
+  // (Inserting invalidates a and b.)
+  for (double t : lost) records_.insert(records_.end() - 1, {t, reference, Pose::Identity(), true});
+  const size_t last = records_.size() - 1;
+  for (size_t k = last - gap - lost.size(); k < last; ++k) {
     FrameRecord& r = records_[k];
     if (!usable(r)) continue;
-    const double s = (r.timestamp - a.timestamp) / (b.timestamp - a.timestamp);
+    const double s = (r.timestamp - t_a) / (t_b - t_a);
     r.T_cr = interpolatePose(T_a, T_b, s) * r.reference->T_wc();
     r.provisional = false;
   }

@@ -125,9 +125,10 @@ class Tracker {
   /// velocity from the last frame tracked against.
   Pose predictPose() const;
   /// Tracking resumed (or relocalised) after frames posed without a new last frame: their
-  /// provisional records get the pose interpolated (by timestamp) between the last frame and this one.
+  /// provisional records get the pose interpolated (by timestamp) between the last frame and this one,
+  /// and so do the `lost` frames (timestamps, after the bridged ones), which get records first.
   /// False if there was nothing to interpolate from (the records are left as they are).
-  bool interpolateBridgedRecords();
+  bool interpolateBridgedRecords(const std::vector<double>& lost);
   /// The tracked pose is further from the constant-velocity prediction than a camera moves in
   /// `periods` frame periods (the tracking.max_jump_* limits are per period).
   bool poseJumped(const Pose& T_cw, int periods) const;
