@@ -211,7 +211,7 @@ TEST(DynamicFilter, BoxOverAStaticWallKeepsItsPoints) {
   const auto g = dynamic::checkMultiViewGeometry(s.T_cur, s.wall, mask.mask, {{s.T_ref, ref}}, s.cam, {});
   EXPECT_GT(g.projected, 500);
   EXPECT_EQ(g.evidence, 0);
-  EXPECT_EQ(dynamic::readmitStaticKeypoints(*cur, mask.mask, g.dynamic_region), in_box);
+  EXPECT_EQ(dynamic::readmitStaticKeypoints(*cur, mask.mask, g.dynamic_region, s.wall, {}), in_box);
 }
 
 TEST(DynamicFilter, ObjectInFrontOfASeenWallLosesOnlyItsOwnPoints) {
@@ -228,7 +228,7 @@ TEST(DynamicFilter, ObjectInFrontOfASeenWallLosesOnlyItsOwnPoints) {
   dynamic::excludeKeypointsInMask(*cur, mask.mask);
   const auto g = dynamic::checkMultiViewGeometry(s.T_cur, depth, mask.mask, {{s.T_ref, ref}}, s.cam, {});
   EXPECT_GT(g.evidence, 50);
-  dynamic::readmitStaticKeypoints(*cur, mask.mask, g.dynamic_region);
+  dynamic::readmitStaticKeypoints(*cur, mask.mask, g.dynamic_region, depth, {});
   // Every keypoint on the person stays excluded; the wall around it is back in use.
   const cv::Rect inner(person.x + 4, person.y + 4, person.width - 8, person.height - 8);
   int on_person = 0;
@@ -241,6 +241,43 @@ TEST(DynamicFilter, ObjectInFrontOfASeenWallLosesOnlyItsOwnPoints) {
     wall_excluded += cur->excluded[i] && !grown.contains(p);
   }
   EXPECT_EQ(wall_excluded, 0);
+}
+
+TEST(DynamicFilter, WallKeypointsOnAPersonsOutlineAreNotReadmitted) {
+  // As above, with the outline test (dynamic.occluder_radius: 16): wall keypoints whose ORB patch (16 px) reaches the
+  // nearer person stay excluded - their corners are the person's outline and move with it.
+  Scene s;
+  auto ref = gridFeatures(s.wall, s.cam);
+  cv::Mat depth = s.wall.clone();
+  const cv::Rect person(120, 40, 80, 180);
+  depth(person).setTo(1.5f);
+  auto cur = gridFeatures(depth, s.cam);
+  std::vector<dynamic::Detection> boxes(1);
+  boxes[0].box = cv::Rect2f(10, 5, 300, 230);
+  const auto mask = dynamic::rasterizeBoxes(boxes, depth.size());
+  dynamic::excludeKeypointsInMask(*cur, mask.mask);
+  dynamic::GeometryParams params;
+  params.occluder_radius = 16;
+  const auto g = dynamic::checkMultiViewGeometry(s.T_cur, depth, mask.mask, {{s.T_ref, ref}}, s.cam, params);
+  EXPECT_GT(dynamic::readmitStaticKeypoints(*cur, mask.mask, g.dynamic_region, depth, params), 300);
+  const cv::Rect near_outline(person.x - 16, person.y - 16, person.width + 32, person.height + 32);
+  const cv::Rect clear_of_it(person.x - 17, person.y - 17, person.width + 34, person.height + 34);
+  int near_wall = 0, near_wall_excluded = 0, far_wall_excluded = 0, in_box = 0;
+  for (int i = 0; i < cur->size(); ++i) {
+    const cv::Point p(cur->raw[i].pt);
+    if (!mask.mask.at<uchar>(p) || person.contains(p)) continue;
+    ++in_box;
+    if (near_outline.contains(p)) {
+      ++near_wall;
+      near_wall_excluded += cur->excluded[i];
+    } else if (!clear_of_it.contains(p)) {
+      far_wall_excluded += cur->excluded[i];
+    }
+  }
+  ASSERT_GT(near_wall, 50);
+  EXPECT_EQ(near_wall_excluded, near_wall);
+  EXPECT_EQ(far_wall_excluded, 0);
+  EXPECT_GT(in_box - near_wall, 300);
 }
 
 TEST(DynamicFilter, UnboxedMoverInFrontOfASeenWallIsFound) {

@@ -349,11 +349,25 @@ GeometryResult findUnboxedMovers(const Pose& T_cw, const cv::Mat& depth_m, const
   return result;
 }
 
-int readmitStaticKeypoints(data::FrameFeatures& f, const cv::Mat& box_mask, const cv::Mat& dynamic_region) {
+int readmitStaticKeypoints(data::FrameFeatures& f, const cv::Mat& box_mask, const cv::Mat& dynamic_region,
+                           const cv::Mat& depth_m, const GeometryParams& p) {
+  // Nearest depth within the radius around every pixel (no depth counts as far).
+  cv::Mat nearest;
+  if (p.occluder_radius > 0 && !depth_m.empty()) {
+    cv::Mat far = depth_m.clone();
+    far.setTo(std::numeric_limits<float>::max(), depth_m <= 0);
+    const int side = 2 * p.occluder_radius + 1;
+    cv::erode(far, nearest, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)));
+  }
   int n = 0;
   for (int i = 0; i < f.size(); ++i) {
     if (!f.excluded[i] || !inMask(box_mask, f.raw[i].pt)) continue;
     if (!dynamic_region.empty() && inMask(dynamic_region, f.raw[i].pt)) continue;
+    const cv::Point q(cvRound(f.raw[i].pt.x), cvRound(f.raw[i].pt.y));
+    if (!nearest.empty() && f.hasDepth(i) && q.inside(cv::Rect(0, 0, nearest.cols, nearest.rows)) &&
+        nearest.at<float>(q) < f.depth[i] - p.occluder_depth) {
+      continue;  // on an occluding outline, see GeometryParams::occluder_radius
+    }
     f.excluded[i] = 0;
     ++n;
   }

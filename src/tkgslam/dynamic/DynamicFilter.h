@@ -28,6 +28,14 @@ struct GeometryParams {
   int patch_radius = 3;              ///< px, patch searched around the projection
   double max_patch_std = 0.3;        ///< m, a patch with more depth spread is a complex edge: static
   double region_depth_step = 0.05;   ///< m, neighbour depth step allowed when growing a region
+  /// Box keypoints on an occluding outline are not re-admitted: something within this radius (px; 16
+  /// = the ORB patch's at level 0) is more than occluder_depth nearer than the keypoint. Where a
+  /// person's outline crosses the background, the corner and its descriptor move with the person
+  /// while the depth there is the background's, which the depth test above cannot see (extreme_s22
+  /// composite, TKG: 0.2019 -> 0.0143 m; but the lookahead mode TKGt loses more frames with it,
+  /// see bench/results/extreme_sensitivity_300.md, session 24). 0 = off (the default).
+  int occluder_radius = 0;
+  double occluder_depth = 0.1;  ///< m
   /// Movers the detector missed: the same check outside the boxes, on every frame (see
   /// findUnboxedMovers). Not in the paper.
   bool unboxed_check = true;
@@ -117,6 +125,9 @@ GeometryResult findUnboxedMovers(const Pose& T_cw, const cv::Mat& depth_m, const
                                  const camera::PinholeCamera& camera, const GeometryParams& params);
 
 /// Re-admits keypoints inside the boxes that are not in the dynamic region; returns how many.
-int readmitStaticKeypoints(data::FrameFeatures& features, const cv::Mat& box_mask, const cv::Mat& dynamic_region);
+/// Keypoints with depth that have something nearer within GeometryParams::occluder_radius
+/// (`depth_m`: CV_32F metres, 0 = none; empty = no such test) stay excluded.
+int readmitStaticKeypoints(data::FrameFeatures& features, const cv::Mat& box_mask, const cv::Mat& dynamic_region,
+                           const cv::Mat& depth_m, const GeometryParams& params);
 
 }  // namespace tkgslam::dynamic

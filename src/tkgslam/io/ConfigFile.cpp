@@ -236,6 +236,8 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     s.get("patch_radius", g.patch_radius);
     s.get("max_patch_std", g.max_patch_std);
     s.get("region_depth_step", g.region_depth_step);
+    s.get("occluder_radius", g.occluder_radius);
+    s.get("occluder_depth", g.occluder_depth);
     s.get("unboxed_check", g.unboxed_check);
     s.get("unboxed_min_evidence", g.unboxed_min_evidence);
     s.get("unboxed_depth_range", g.unboxed_depth_range);
@@ -248,6 +250,8 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     require(c.dynamic.box_flow == "auto" || c.dynamic.box_flow == "on" || c.dynamic.box_flow == "off", source,
             "dynamic.box_flow must be auto, on or off");
     require(c.dynamic.detect_every >= 1, source, "dynamic.detect_every must be >= 1");
+    require(g.occluder_radius >= 0 && g.occluder_radius <= 64, source, "dynamic.occluder_radius must be in [0, 64] px");
+    require(g.occluder_depth >= 0, source, "dynamic.occluder_depth must be >= 0 (m)");
     require(g.unboxed_min_evidence >= 1, source, "dynamic.unboxed_min_evidence must be >= 1");
     require(g.unboxed_depth_range > 0, source, "dynamic.unboxed_depth_range must be > 0");
     require(g.unboxed_min_hidden >= 0 && g.unboxed_min_hidden <= 1, source,

@@ -93,7 +93,7 @@ tracking::RefineKeypoints SlamSystem::filterDynamic(PreparedFrame& frame, dynami
     }
     if (in_boxes) {
       const auto g = dynamic::checkMultiViewGeometry(frame.T_cw, images.depth_m, box_mask.mask, refs, camera_, gp);
-      info.readmitted = dynamic::readmitStaticKeypoints(*frame.features, box_mask.mask, g.dynamic_region);
+      info.readmitted = dynamic::readmitStaticKeypoints(*frame.features, box_mask.mask, g.dynamic_region, images.depth_m, gp);
       info.geometry = true;
     }
     if (gp.unboxed_check) {
