@@ -1,4 +1,6 @@
 // The multi-view geometry check on synthetic RGB-D views where the truth is known.
+#include <tuple>
+
 #include <gtest/gtest.h>
 
 #include "tkgslam/dynamic/DynamicFilter.h"
@@ -214,21 +216,35 @@ TEST(DynamicFilter, BoxOverAStaticWallKeepsItsPoints) {
   EXPECT_EQ(dynamic::readmitStaticKeypoints(*cur, mask.mask, g.dynamic_region, s.wall, {}), in_box);
 }
 
+// The reference saw the bare wall; now a person stands 1.5 m away in a loose box over most of the
+// image, and the current frame's keypoints in it are excluded.
+struct PersonBeforeSeenWall : Scene {
+  const cv::Rect person{120, 40, 80, 180};
+  cv::Mat depth;
+  std::shared_ptr<data::FrameFeatures> ref, cur;
+  dynamic::BoxMask mask;
+  PersonBeforeSeenWall() {
+    ref = gridFeatures(wall, cam);
+    depth = wall.clone();
+    depth(person).setTo(1.5f);
+    cur = gridFeatures(depth, cam);
+    std::vector<dynamic::Detection> boxes(1);
+    boxes[0].box = cv::Rect2f(10, 5, 300, 230);
+    mask = dynamic::rasterizeBoxes(boxes, depth.size());
+    dynamic::excludeKeypointsInMask(*cur, mask.mask);
+  }
+  dynamic::GeometryResult check(const dynamic::GeometryParams& p) const {
+    return dynamic::checkMultiViewGeometry(T_cur, depth, mask.mask, {{T_ref, ref}}, cam, p);
+  }
+};
+
 TEST(DynamicFilter, ObjectInFrontOfASeenWallLosesOnlyItsOwnPoints) {
-  Scene s;
-  auto ref = gridFeatures(s.wall, s.cam);  // the reference saw the bare wall
-  cv::Mat depth = s.wall.clone();
-  const cv::Rect person(120, 40, 80, 180);
-  depth(person).setTo(1.5f);  // now a person stands 1.5 m away
-  auto cur = gridFeatures(depth, s.cam);
-  std::vector<dynamic::Detection> boxes(1);
-  boxes[0].box = cv::Rect2f(10, 5, 300, 230);  // a loose box: most of the image
-  const auto mask = dynamic::rasterizeBoxes(boxes, depth.size());
+  PersonBeforeSeenWall s;
+  const auto& [person, cur, mask] = std::tie(s.person, s.cur, s.mask);
   ASSERT_GE(mask.ratio, 0.7);
-  dynamic::excludeKeypointsInMask(*cur, mask.mask);
-  const auto g = dynamic::checkMultiViewGeometry(s.T_cur, depth, mask.mask, {{s.T_ref, ref}}, s.cam, {});
+  const auto g = s.check({});
   EXPECT_GT(g.evidence, 50);
-  dynamic::readmitStaticKeypoints(*cur, mask.mask, g.dynamic_region, depth, {});
+  dynamic::readmitStaticKeypoints(*cur, mask.mask, g.dynamic_region, s.depth, {});
   // Every keypoint on the person stays excluded; the wall around it is back in use.
   const cv::Rect inner(person.x + 4, person.y + 4, person.width - 8, person.height - 8);
   int on_person = 0;
@@ -244,22 +260,14 @@ TEST(DynamicFilter, ObjectInFrontOfASeenWallLosesOnlyItsOwnPoints) {
 }
 
 TEST(DynamicFilter, WallKeypointsOnAPersonsOutlineAreNotReadmitted) {
-  // As above, with the outline test (dynamic.occluder_radius: 16): wall keypoints whose ORB patch (16 px) reaches the
-  // nearer person stay excluded - their corners are the person's outline and move with it.
-  Scene s;
-  auto ref = gridFeatures(s.wall, s.cam);
-  cv::Mat depth = s.wall.clone();
-  const cv::Rect person(120, 40, 80, 180);
-  depth(person).setTo(1.5f);
-  auto cur = gridFeatures(depth, s.cam);
-  std::vector<dynamic::Detection> boxes(1);
-  boxes[0].box = cv::Rect2f(10, 5, 300, 230);
-  const auto mask = dynamic::rasterizeBoxes(boxes, depth.size());
-  dynamic::excludeKeypointsInMask(*cur, mask.mask);
+  // As above, with the outline test (dynamic.occluder_radius: 16): wall keypoints whose ORB patch
+  // (16 px) reaches the nearer person stay excluded - their corners are its outline and move with it.
+  PersonBeforeSeenWall s;
+  const auto& [person, cur, mask] = std::tie(s.person, s.cur, s.mask);
   dynamic::GeometryParams params;
   params.occluder_radius = 16;
-  const auto g = dynamic::checkMultiViewGeometry(s.T_cur, depth, mask.mask, {{s.T_ref, ref}}, s.cam, params);
-  EXPECT_GT(dynamic::readmitStaticKeypoints(*cur, mask.mask, g.dynamic_region, depth, params), 300);
+  const auto g = s.check(params);
+  EXPECT_GT(dynamic::readmitStaticKeypoints(*cur, mask.mask, g.dynamic_region, s.depth, params), 300);
   const cv::Rect near_outline(person.x - 16, person.y - 16, person.width + 32, person.height + 32);
   const cv::Rect clear_of_it(person.x - 17, person.y - 17, person.width + 34, person.height + 34);
   int near_wall = 0, near_wall_excluded = 0, far_wall_excluded = 0, in_box = 0;
