@@ -93,6 +93,26 @@ int OrbMatcher::searchByProjection(data::Frame& cur, const data::Frame& last, fl
   return n;
 }
 
+bool OrbMatcher::isInFrustum(data::MapPoint& mp, const Pose& T_cw, double min_view_cos) const {
+  mp.track_in_view = false;
+  const Vec3 pc = T_cw * mp.pos_w;
+  if (pc.z() <= 0) return false;
+  const Vec2 uv = cam_.project(pc);
+  if (!cam_.inImage(uv)) return false;
+  const Vec3 PO = mp.pos_w - T_cw.inverse().translation();
+  const double dist = PO.norm();
+  if (dist < 0.8 * mp.min_distance || dist > 1.2 * mp.max_distance) return false;
+  const double view_cos = PO.dot(mp.normal) / dist;
+  if (view_cos < min_view_cos) return false;
+  mp.track_in_view = true;
+  mp.track_x = float(uv.x());
+  mp.track_y = float(uv.y());
+  mp.track_x_right = float(uv.x() - bf_ / pc.z());
+  mp.track_level = mp.predictScale(dist, pyr_);
+  mp.track_view_cos = float(view_cos);
+  return true;
+}
+
 int OrbMatcher::searchByProjection(data::Frame& cur, const std::vector<std::shared_ptr<data::MapPoint>>& points,
                                    float th) const {
   const auto& F = *cur.features;

@@ -25,6 +25,11 @@ class OrbMatcher {
   /// the prediction) and searches a window of `th` * scale pixels. Returns new matches.
   int searchByProjection(data::Frame& cur, const data::Frame& last, float th) const;
 
+  /// Whether `mp` should be visible from a camera at T_cw (in front, in the image, within its scale
+  /// range, viewed less than acos(min_view_cos) off its mean viewing direction); if so fills its
+  /// track_* scratch (predicted pixel, virtual right u, level, view cosine) for searchByProjection.
+  bool isInFrustum(data::MapPoint& mp, const Pose& T_cw, double min_view_cos) const;
+
   /// Local-map tracking: searches `points` (with track_* scratch filled by the caller) in `cur`.
   int searchByProjection(data::Frame& cur, const std::vector<std::shared_ptr<data::MapPoint>>& points,
                          float th) const;

@@ -5,8 +5,9 @@
 #include <map>
 #include <mutex>
 
-#include <opencv2/calib3d.hpp>
 #include <spdlog/spdlog.h>
+
+#include "tkgslam/optimize/FramePose.h"
 
 namespace tkgslam::tracking {
 
@@ -289,26 +290,6 @@ void Tracker::updateLastFrame() {
   }
 }
 
-int Tracker::optimizeFramePose(Frame& frame) {
-  const auto& F = *frame.features;
-  std::vector<optimize::PoseObservation> obs;
-  std::vector<int> index;
-  for (int i = 0; i < frame.size(); ++i) {
-    if (!frame.map_points[i]) continue;
-    optimize::PoseObservation o;
-    o.p_w = frame.map_points[i]->pos_w;
-    o.uv = Vec2(F.ideal[i].pt.x, F.ideal[i].pt.y);
-    o.u_right = F.u_right[i];
-    o.information = pyr_.inv_sigma2[F.ideal[i].octave];
-    obs.push_back(o);
-    index.push_back(i);
-  }
-  std::vector<char> outlier;
-  const int inliers = optimize::optimizePose(obs, K_, frame.T_cw, outlier);
-  for (size_t k = 0; k < index.size(); ++k) frame.outlier[index[k]] = outlier[k];
-  return inliers;
-}
-
 int Tracker::discardOutliers(Frame& frame) {
   int in_map = 0;
   for (int i = 0; i < frame.size(); ++i) {
@@ -337,7 +318,7 @@ bool Tracker::trackReferenceKeyFrame(Frame& frame) {
   frame.map_points = matches;
   std::fill(frame.outlier.begin(), frame.outlier.end(), 0);
   frame.T_cw = last_frame_->T_cw;
-  optimizeFramePose(frame);
+  optimize::optimizeFramePose(frame, K_, pyr_);
   const int in_map = discardOutliers(frame);
   spdlog::debug("frame {}: reference keyframe {} gave {} matches, {} inliers", frame.id, reference_kf_->id, n, in_map);
   return in_map >= 10;
@@ -358,7 +339,7 @@ bool Tracker::trackWithMotionModel(Frame& frame) {
     return false;
   }
   std::fill(frame.outlier.begin(), frame.outlier.end(), 0);
-  optimizeFramePose(frame);
+  optimize::optimizeFramePose(frame, K_, pyr_);
   const int in_map = discardOutliers(frame);
   spdlog::debug("frame {}: motion model {} matches, {} in map after optimisation", frame.id, n, in_map);
   return in_map >= 10;
@@ -436,26 +417,6 @@ bool Tracker::poseJumped(const Pose& T_cw, int periods) const {
   return jumped;
 }
 
-bool Tracker::isInFrustum(MapPoint& mp, const Frame& frame, double min_view_cos) const {
-  mp.track_in_view = false;
-  const Vec3 pc = frame.T_cw * mp.pos_w;
-  if (pc.z() <= 0) return false;
-  const Vec2 uv = cam_.project(pc);
-  if (!cam_.inImage(uv)) return false;
-  const Vec3 PO = mp.pos_w - frame.centre();
-  const double dist = PO.norm();
-  if (dist < 0.8 * mp.min_distance || dist > 1.2 * mp.max_distance) return false;
-  const double view_cos = PO.dot(mp.normal) / dist;
-  if (view_cos < min_view_cos) return false;
-  mp.track_in_view = true;
-  mp.track_x = float(uv.x());
-  mp.track_y = float(uv.y());
-  mp.track_x_right = float(uv.x() - K_.bf / pc.z());
-  mp.track_level = mp.predictScale(dist, pyr_);
-  mp.track_view_cos = float(view_cos);
-  return true;
-}
-
 void Tracker::updateLocalMap(Frame& frame) {
   // Keyframes that see the frame's points vote; the most voted becomes the reference.
   std::map<KeyFrame*, int, data::KeyFrameIdLess> votes;
@@ -523,7 +484,7 @@ int Tracker::searchLocalPoints(Frame& frame) {
   int to_match = 0;
   for (const auto& mp : local_points_) {
     if (mp->last_frame_seen == frame.id || mp->bad) continue;
-    if (isInFrustum(*mp, frame, 0.5)) {
+    if (matcher_.isInFrustum(*mp, frame.T_cw, 0.5)) {
       mp->visible++;
       ++to_match;
     }
@@ -536,7 +497,7 @@ int Tracker::searchLocalPoints(Frame& frame) {
 bool Tracker::trackLocalMap(Frame& frame) {
   updateLocalMap(frame);
   searchLocalPoints(frame);
-  optimizeFramePose(frame);
+  optimize::optimizeFramePose(frame, K_, pyr_);
   matches_inliers_ = 0;
   for (int i = 0; i < frame.size(); ++i) {
     const auto& mp = frame.map_points[i];
@@ -626,11 +587,11 @@ bool Tracker::relocalize(Frame& frame) {
     std::vector<std::shared_ptr<MapPoint>> matches;
     if (matcher_.searchByDescriptors(*kf, frame, matches) < 15) continue;
     Pose T;
-    if (solvePnp(frame, matches, T) < 15) continue;
+    if (optimize::solvePnpRansac(frame, cam_, matches, T) < 15) continue;
     frame.T_cw = T;
     frame.map_points = matches;
     std::fill(frame.outlier.begin(), frame.outlier.end(), 0);
-    if (optimizeFramePose(frame) < 10) continue;
+    if (optimize::optimizeFramePose(frame, K_, pyr_) < 10) continue;
     if (discardOutliers(frame) < 15) continue;
     reference_kf_ = kf;
     last_reloc_frame_ = frame.id;
@@ -638,40 +599,6 @@ bool Tracker::relocalize(Frame& frame) {
     return true;
   }
   return false;
-}
-
-int Tracker::solvePnp(const Frame& frame, std::vector<std::shared_ptr<MapPoint>>& matches, Pose& T_cw) const {
-  const auto& F = *frame.features;
-  std::vector<cv::Point3f> obj;
-  std::vector<cv::Point2f> img;
-  std::vector<int> idx;
-  for (int i = 0; i < frame.size(); ++i) {
-    if (!matches[i]) continue;
-    const Vec3& p = matches[i]->pos_w;
-    obj.emplace_back(float(p.x()), float(p.y()), float(p.z()));
-    img.push_back(F.ideal[i].pt);
-    idx.push_back(i);
-  }
-  if (obj.size() < 6) return 0;
-  const cv::Matx33d K(cam_.fx(), 0, cam_.cx(), 0, cam_.fy(), cam_.cy(), 0, 0, 1);
-  cv::Mat rvec, tvec;
-  std::vector<int> inliers;
-  if (!cv::solvePnPRansac(obj, img, K, cv::noArray(), rvec, tvec, false, 200, 4.0f, 0.99, inliers,
-                          cv::SOLVEPNP_EPNP) ||
-      inliers.empty()) {
-    return 0;
-  }
-  cv::Mat R;
-  cv::Rodrigues(rvec, R);
-  T_cw = Pose::Identity();
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) T_cw.linear()(r, c) = R.at<double>(r, c);
-    T_cw.translation()[r] = tvec.at<double>(r);
-  }
-  std::vector<std::shared_ptr<MapPoint>> kept(matches.size());
-  for (int i : inliers) kept[idx[i]] = matches[idx[i]];
-  matches = std::move(kept);
-  return int(inliers.size());
 }
 
 bool Tracker::reanchorSegment(Frame& frame) {
@@ -702,14 +629,14 @@ bool Tracker::reanchorSegment(Frame& frame) {
     std::vector<std::shared_ptr<MapPoint>> matches;
     const int n = matcher_.searchByDescriptors(probe_kf, frame, matches);
     Pose T_cw_old = Pose::Identity();  // the frame's pose in the previous segment's world
-    const int pnp = n < kAnchorMinInliers ? 0 : solvePnp(frame, matches, T_cw_old);
+    const int pnp = n < kAnchorMinInliers ? 0 : optimize::solvePnpRansac(frame, cam_, matches, T_cw_old);
     int inliers = 0;
     if (pnp >= kAnchorMinInliers) {
       Frame probe = frame;  // the pose optimisation works on a frame's matches
       probe.T_cw = T_cw_old;
       probe.map_points = matches;
       std::fill(probe.outlier.begin(), probe.outlier.end(), 0);
-      inliers = optimizeFramePose(probe);
+      inliers = optimize::optimizeFramePose(probe, K_, pyr_);
       T_cw_old = probe.T_cw;
     }
     spdlog::debug("frame {}: re-anchoring to keyframe {}: {} matches, {} PnP inliers, {} after optimisation", frame.id,

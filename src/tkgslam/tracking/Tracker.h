@@ -98,10 +98,6 @@ class Tracker {
   bool trackWithMotionModel(data::Frame& frame);
   bool trackReferenceKeyFrame(data::Frame& frame);
   bool relocalize(data::Frame& frame);
-  /// EPnP + RANSAC from the 3-D points in `matches` (per keypoint of `frame`, may be null) to
-  /// their keypoints. On success sets T_cw and keeps only the RANSAC inliers in `matches`.
-  /// Returns the inlier count (0 on failure).
-  int solvePnp(const data::Frame& frame, std::vector<std::shared_ptr<data::MapPoint>>& matches, Pose& T_cw) const;
   /// A new map segment started at the last known pose, off by however far the camera moved while
   /// lost. Once a new keyframe sees what one of the previous segment's last keyframes saw, the
   /// segment is moved into the previous segment's world frame (one rigid correction), so both
@@ -114,11 +110,8 @@ class Tracker {
   int searchLocalPoints(data::Frame& frame);
   bool needNewKeyFrame(const data::Frame& frame, bool mapper_idle, int mapper_queue) const;
   std::shared_ptr<data::KeyFrame> createKeyFrame(data::Frame& frame);
-  /// Pose-only optimisation on the frame's current matches; marks outliers. Returns inliers.
-  int optimizeFramePose(data::Frame& frame);
   /// Drops outlier matches; returns the matches that are map points (not temporary ones).
   int discardOutliers(data::Frame& frame);
-  bool isInFrustum(data::MapPoint& mp, const data::Frame& frame, double min_view_cos) const;
   /// Records the frame's sharpness; true if it is blurred relative to the recent frames.
   bool checkBlurred(const data::Frame& frame);
   /// Constant-velocity prediction for the current frame: `gap_frames_ + 1` steps of the last
