@@ -58,6 +58,23 @@ TEST(ConfigFile, LookaheadOnlyWhereThereIsSomethingToLookAheadTo) {
   EXPECT_NE(errorOf(base + "mode: TKG, detector_tiles: 10}").find("detector_tiles must be in [1, 9]"), std::string::npos);
 }
 
+TEST(ConfigFile, LoopClosingSection) {
+  const auto defaults = io::parseConfig(kMinimal, "x");
+  EXPECT_TRUE(defaults.loop.enabled);
+  EXPECT_EQ(defaults.loop.min_inliers, 40);
+  const auto c = io::parseConfig(std::string(kMinimal) + "loop: {enabled: false, min_inliers: 60, min_correction_m: 0.1}", "x");
+  EXPECT_FALSE(c.loop.enabled);
+  EXPECT_EQ(c.loop.min_inliers, 60);
+  EXPECT_DOUBLE_EQ(c.loop.min_correction_m, 0.1);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "loop: {min_inliers: 5}").find("loop.min_inliers must be >= 10"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "loop: {candidates: 0}").find("loop.candidates must be >= 1"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "loop: {min_correction_deg: -1}").find("loop.min_correction_deg must be >= 0"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "loop: {enable: true}").find("unknown key 'loop.enable'"), std::string::npos);
+}
+
 TEST(ConfigFile, InvalidValuesAreClearErrors) {
   EXPECT_NE(errorOf("camera: {width: 640, height: 480, fx: 0, fy: 500, cx: 320, cy: 240}").find("fx and fy must be > 0"),
             std::string::npos);

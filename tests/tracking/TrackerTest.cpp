@@ -39,7 +39,7 @@ std::vector<FrameOutcome> trackWithCover(double covered_ratio, int frames, int c
   data::Map map;
   tracking::Tracker tracker(map, camera, extractor.pyramid(), config);
   mapping::LocalMapper mapper(map, camera, extractor.pyramid(), config);
-  mapping::LocalMappingThread mapping(mapper, true);
+  mapping::LocalMappingThread mapping(mapper, nullptr, true);
   const io::TumDataset dataset(test::fr1xyz().string());
   std::vector<FrameOutcome> out;
   for (int i = 0; i < frames; ++i) {

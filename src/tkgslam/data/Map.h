@@ -48,6 +48,8 @@ class Map {
   /// Changes whenever the active map's world frame changes (transformActive, clearActive), so
   /// work computed outside the lock in the old frame (bundle adjustment) is not written back.
   long generation() const { return generation_; }
+  /// The active keyframes and points were moved non-rigidly (loop closure): bumps generation().
+  void noteCorrection() { ++generation_; }
 
  private:
   std::mutex mutex_;

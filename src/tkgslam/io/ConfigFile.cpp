@@ -97,7 +97,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     throw InputError(fmt::format("{}: not valid YAML (line {}): {}", source, e.mark.line + 1, e.msg));
   }
   if (!root.IsMap()) throw InputError(fmt::format("{}: expected a YAML mapping at top level", source));
-  static const std::set<std::string> kSections = {"camera", "depth", "orb", "tracking", "mapping", "dynamic", "system"};
+  static const std::set<std::string> kSections = {"camera", "depth", "orb", "tracking", "mapping", "loop", "dynamic", "system"};
   for (const auto& kv : root) {
     const auto key = keyName(kv.first, source, "the top level");
     if (!kSections.count(key)) throw InputError(fmt::format("{}: unknown section '{}'", source, key));
@@ -188,6 +188,22 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     require(c.mapping.covisible_keyframes >= 1, source, "mapping.covisible_keyframes must be >= 1");
     require(c.mapping.keyframe_redundancy > 0 && c.mapping.keyframe_redundancy <= 1, source,
             "mapping.keyframe_redundancy must be in (0, 1]");
+  }
+  {
+    Section s(root, "loop", source, false);
+    s.get("enabled", c.loop.enabled);
+    s.get("confirm", c.loop.confirm);
+    s.get("min_inliers", c.loop.min_inliers);
+    s.get("min_keyframe_gap", c.loop.min_keyframe_gap);
+    s.get("candidates", c.loop.candidates);
+    s.get("min_correction_m", c.loop.min_correction_m);
+    s.get("min_correction_deg", c.loop.min_correction_deg);
+    s.checkNoUnknownKeys();
+    require(c.loop.min_inliers >= 10, source, "loop.min_inliers must be >= 10");
+    require(c.loop.min_keyframe_gap >= 1, source, "loop.min_keyframe_gap must be >= 1");
+    require(c.loop.candidates >= 1, source, "loop.candidates must be >= 1");
+    require(c.loop.min_correction_m >= 0, source, "loop.min_correction_m must be >= 0");
+    require(c.loop.min_correction_deg >= 0, source, "loop.min_correction_deg must be >= 0");
   }
   {
     Section s(root, "dynamic", source, false);

@@ -2,8 +2,8 @@
 
 namespace tkgslam::mapping {
 
-LocalMappingThread::LocalMappingThread(LocalMapper& mapper, bool synchronous)
-    : mapper_(mapper), synchronous_(synchronous) {
+LocalMappingThread::LocalMappingThread(LocalMapper& mapper, loop::LoopCloser* loop_closer, bool synchronous)
+    : mapper_(mapper), loop_closer_(loop_closer), synchronous_(synchronous) {
   if (!synchronous_) worker_ = std::thread([this] { run(); });
 }
 
@@ -11,7 +11,7 @@ LocalMappingThread::~LocalMappingThread() { stop(); }
 
 void LocalMappingThread::insert(std::shared_ptr<data::KeyFrame> kf) {
   if (synchronous_) {
-    mapper_.process(kf, false);
+    processOne(kf, false);
     return;
   }
   {
@@ -46,6 +46,11 @@ void LocalMappingThread::stop() {
   if (worker_.joinable()) worker_.join();
 }
 
+void LocalMappingThread::processOne(const std::shared_ptr<data::KeyFrame>& kf, bool more_pending) {
+  mapper_.process(kf, more_pending);
+  if (loop_closer_) loop_closer_->process(kf);
+}
+
 void LocalMappingThread::run() {
   for (;;) {
     std::shared_ptr<data::KeyFrame> kf;
@@ -59,7 +64,7 @@ void LocalMappingThread::run() {
       more = !queue_.empty();
       busy_ = true;
     }
-    mapper_.process(kf, more);
+    processOne(kf, more);
     {
       std::lock_guard<std::mutex> lock(mutex_);
       busy_ = false;

@@ -8,13 +8,15 @@
 #include <mutex>
 #include <thread>
 
+#include "tkgslam/loop/LoopCloser.h"
 #include "tkgslam/mapping/LocalMapper.h"
 
 namespace tkgslam::mapping {
 
 class LocalMappingThread {
  public:
-  LocalMappingThread(LocalMapper& mapper, bool synchronous);
+  /// `loop_closer` (may be null) looks for a loop from each keyframe after local mapping.
+  LocalMappingThread(LocalMapper& mapper, loop::LoopCloser* loop_closer, bool synchronous);
   ~LocalMappingThread();
   LocalMappingThread(const LocalMappingThread&) = delete;
   LocalMappingThread& operator=(const LocalMappingThread&) = delete;
@@ -30,8 +32,10 @@ class LocalMappingThread {
 
  private:
   void run();
+  void processOne(const std::shared_ptr<data::KeyFrame>& kf, bool more_pending);
 
   LocalMapper& mapper_;
+  loop::LoopCloser* loop_closer_;
   const bool synchronous_;
   mutable std::mutex mutex_;
   std::condition_variable cv_;

@@ -55,6 +55,22 @@ struct MappingParams {
   bool cull_keyframes = true;
 };
 
+/// Loop closing (ORB-SLAM2's LoopClosing for RGB-D, without a vocabulary): each new keyframe is
+/// matched against the older keyframes it shares no map points with; when it and the next keyframe
+/// find the camera far from where the map has it, the keyframes are corrected by an SE(3) pose graph and the two sides'
+/// points fused. See loop::LoopCloser.
+struct LoopParams {
+  bool enabled = true;
+  /// Close only once the next keyframe finds the same correction: where the old map is itself
+  /// off (people over the first frames), single detections pulled it further off.
+  bool confirm = true;
+  int min_inliers = 40;         ///< PnP + pose-optimisation inliers against the old keyframe
+  int min_keyframe_gap = 10;    ///< candidates are at least this many keyframes older
+  int candidates = 3;           ///< old keyframes verified per new keyframe (best by descriptor matches)
+  double min_correction_m = 0.05;   ///< smaller disagreements are left to local BA
+  double min_correction_deg = 3.0;  ///< ... in rotation (degrees)
+};
+
 /// Dynamic-object handling, the paper's ablations (Table 3):
 /// orb = none (ORB-SLAM2 baseline); T = drop every keypoint in a box; TK = T + Kalman filling of
 /// missed detections; TG = T + multi-view geometry when boxes cover >= tau; TKG = all.
@@ -110,6 +126,7 @@ struct SlamConfig {
   feature::OrbParams orb;
   TrackingParams tracking;
   MappingParams mapping;
+  LoopParams loop;
   DynamicParams dynamic;
   bool deterministic = false;
   std::uint64_t seed = 42;

@@ -24,7 +24,11 @@ SlamSystem::SlamSystem(const SlamConfig& config)
   }
   tracker_ = std::make_unique<tracking::Tracker>(map_, camera_, extractor_.pyramid(), config_);
   mapper_ = std::make_unique<mapping::LocalMapper>(map_, camera_, extractor_.pyramid(), config_);
-  mapping_thread_ = std::make_unique<mapping::LocalMappingThread>(*mapper_, config_.deterministic);
+  if (config_.loop.enabled) {
+    loop_closer_ = std::make_unique<loop::LoopCloser>(map_, camera_, extractor_.pyramid(), config_);
+  }
+  mapping_thread_ =
+      std::make_unique<mapping::LocalMappingThread>(*mapper_, loop_closer_.get(), config_.deterministic);
 }
 
 SlamSystem::~SlamSystem() { mapping_thread_->stop(); }

@@ -14,6 +14,7 @@
 #include "tkgslam/feature/OrbExtractor.h"
 #include "tkgslam/io/PlyWriter.h"
 #include "tkgslam/io/TumDataset.h"
+#include "tkgslam/loop/LoopCloser.h"
 #include "tkgslam/mapping/LocalMapper.h"
 #include "tkgslam/mapping/LocalMappingThread.h"
 #include "tkgslam/system/SlamConfig.h"
@@ -86,6 +87,8 @@ class SlamSystem {
   int framesTracked() const { return int(tracker_->records().size()); }
   tracking::TrackingState state() const { return tracker_->state(); }
   const TimingStats& timing() const { return timing_; }
+  /// Loop closing so far (zeros with loop.enabled off). Read after finish() in threaded runs.
+  loop::LoopStats loopStats() const { return loop_closer_ ? loop_closer_->stats() : loop::LoopStats{}; }
   const std::vector<DynamicFrameInfo>& dynamicInfo() const { return dynamic_info_; }
   /// Filled for frames that come with a truth mask.
   const KeypointClassification& classification() const { return classification_; }
@@ -98,6 +101,7 @@ class SlamSystem {
   mutable data::Map map_;
   std::unique_ptr<tracking::Tracker> tracker_;
   std::unique_ptr<mapping::LocalMapper> mapper_;
+  std::unique_ptr<loop::LoopCloser> loop_closer_;  ///< null with loop.enabled off
   std::unique_ptr<mapping::LocalMappingThread> mapping_thread_;
   std::unique_ptr<dynamic::BoxPipeline> boxes_;  ///< detector + box tracker; null in orb mode
   std::vector<DynamicFrameInfo> dynamic_info_;

@@ -1,0 +1,298 @@
+#include "tkgslam/loop/LoopCloser.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <set>
+#include <tuple>
+
+#include <spdlog/spdlog.h>
+
+#include "tkgslam/common/Elapsed.h"
+#include "tkgslam/data/Frame.h"
+#include "tkgslam/optimize/FramePose.h"
+#include "tkgslam/optimize/PoseGraphOptimizer.h"
+
+namespace tkgslam::loop {
+
+using data::KeyFrame;
+using data::MapPoint;
+
+namespace {
+
+constexpr double kRadToDeg = 180.0 / M_PI;
+/// Covisibility links this strong become pose-graph edges (ORB-SLAM2's essential graph: 100).
+constexpr int kCovisibilityEdge = 100;
+/// Keyframes on either side whose points are fused after a correction.
+constexpr int kFuseNeighbours = 10;
+/// A second detection confirms the first when the corrections differ by less than this at its camera.
+constexpr double kAgreeM = 0.03;
+constexpr double kAgreeDeg = 2.0;
+/// Weight of the loop edge: far above a covisibility edge's (shared points, a few hundred).
+constexpr double kLoopEdgeWeight = 1e5;
+/// Points per old keyframe (most observed first) used to rank the candidates by appearance.
+constexpr size_t kScoringPoints = 300;
+/// Descriptor matches a candidate needs to be verified, and RANSAC inliers before the guided search.
+constexpr int kMinDescriptorMatches = 15;
+constexpr int kMinPnpInliers = 12;
+
+}  // namespace
+
+LoopCloser::LoopCloser(data::Map& map, const camera::PinholeCamera& camera, const feature::ScalePyramid& pyramid,
+                       const SlamConfig& config)
+    : map_(map), cam_(camera), pyr_(pyramid), cfg_(config), matcher_(camera, pyramid, config.depth.baseline_fx),
+      K_(optimize::intrinsicsOf(camera.fx(), camera.fy(), camera.cx(), camera.cy(), config.depth.baseline_fx)) {}
+
+bool LoopCloser::process(const std::shared_ptr<KeyFrame>& kf) {
+  if (!cfg_.loop.enabled) return false;
+  const auto t0 = std::chrono::steady_clock::now();
+  ++stats_.keyframes_checked;
+  std::optional<Loop> loop = detect(kf);
+  stats_.total_ms += msSince(t0);
+  if (!loop) {
+    pending_.reset();
+    return false;
+  }
+  // With loop.confirm one detection may be a coincidence (a repeated texture, a mover's points
+  // that slipped through): the next keyframe must find the same correction.
+  const bool confirmed = !cfg_.loop.confirm || (pending_ && agree(*pending_, *loop));
+  if (!confirmed) {
+    pending_ = std::move(loop);
+    return false;
+  }
+  pending_.reset();
+  const auto t1 = std::chrono::steady_clock::now();
+  const bool closed = close(*loop);
+  stats_.total_ms += msSince(t1);
+  return closed;
+}
+
+std::vector<std::shared_ptr<KeyFrame>> LoopCloser::candidatesFor(const KeyFrame& kf) const {
+  std::vector<std::shared_ptr<KeyFrame>> out;
+  for (const auto& c : map_.keyFrames()) {
+    if (c->bad || !c->features || c->id > kf.id - cfg_.loop.min_keyframe_gap) continue;
+    if (kf.connections.count(c.get())) continue;  // covisible: local BA keeps the two consistent
+    out.push_back(c);
+  }
+  return out;
+}
+
+std::shared_ptr<MapPoint> LoopCloser::copyOf(const MapPoint& mp) {
+  auto copy = std::make_shared<MapPoint>(mp.id, mp.pos_w, nullptr, mp.descriptor);
+  copy->normal = mp.normal;
+  copy->min_distance = mp.min_distance;
+  copy->max_distance = mp.max_distance;
+  return copy;
+}
+
+std::optional<LoopCloser::Loop> LoopCloser::detect(const std::shared_ptr<KeyFrame>& kf) {
+  std::shared_ptr<const data::FrameFeatures> features;
+  std::vector<std::unique_ptr<KeyFrame>> probes;
+  Loop base;
+  {
+    std::lock_guard<std::mutex> lock(map_.mutex());
+    if (kf->bad || !kf->features) return std::nullopt;
+    features = kf->features;
+    base.kf = kf;
+    base.T_cw_map = kf->T_cw();
+    base.generation = map_.generation();
+    // Copies of the candidates' best-observed points: matching runs without the lock while
+    // mapping and tracking go on.
+    for (const auto& c : candidatesFor(*kf)) {
+      // Most observed first; among equals spread over the keypoint list (it is ordered by level
+      // and image cell) by a fixed scrambling of the index.
+      std::vector<std::tuple<int, size_t, size_t>> by_obs;
+      for (size_t i = 0; i < c->map_points.size(); ++i) {
+        const auto& mp = c->map_points[i];
+        if (mp && !mp->bad) by_obs.emplace_back(-int(mp->observations.size()), (i * 7919) % 4093, i);
+      }
+      std::sort(by_obs.begin(), by_obs.end());
+      if (by_obs.size() > kScoringPoints) by_obs.resize(kScoringPoints);
+      auto probe = std::make_unique<KeyFrame>(c->id, c->frame_id, c->timestamp, c->features, c->T_cw());
+      probe->map_points.resize(c->map_points.size());
+      for (const auto& [obs, scrambled, i] : by_obs) probe->map_points[i] = copyOf(*c->map_points[i]);
+      probes.push_back(std::move(probe));
+    }
+  }
+  if (probes.empty()) return std::nullopt;
+  // The matcher and the pose solvers read a Frame's features and never write them.
+  const data::Frame frame(kf->frame_id, 0.0, std::const_pointer_cast<data::FrameFeatures>(features));
+  // Appearance first: the old keyframes whose points match most of the new keyframe's keypoints.
+  std::vector<std::pair<int, size_t>> scored;
+  std::vector<std::vector<std::shared_ptr<MapPoint>>> matches(probes.size());
+  for (size_t k = 0; k < probes.size(); ++k) {
+    const int n = matcher_.searchByDescriptors(*probes[k], frame, matches[k]);
+    if (n >= kMinDescriptorMatches) scored.emplace_back(-n, k);
+  }
+  std::stable_sort(scored.begin(), scored.end());
+  if (scored.size() > size_t(cfg_.loop.candidates)) scored.resize(size_t(cfg_.loop.candidates));
+
+  std::optional<Loop> best;
+  for (const auto& [minus_n, k] : scored) {
+    const KeyFrame& probe = *probes[k];
+    // All the points the old keyframe's neighbourhood has, for the search guided by the pose.
+    std::vector<std::shared_ptr<MapPoint>> nearby;
+    {
+      std::lock_guard<std::mutex> lock(map_.mutex());
+      const auto old = map_.keyFrame(probe.id);
+      if (!old || old->bad) continue;
+      std::vector<KeyFrame*> sources{old.get()};
+      for (KeyFrame* n : old->bestCovisibles(kFuseNeighbours)) sources.push_back(n);
+      std::set<long> taken;
+      for (KeyFrame* src : sources) {
+        for (const auto& mp : src->map_points) {
+          if (mp && !mp->bad && taken.insert(mp->id).second) nearby.push_back(copyOf(*mp));
+        }
+      }
+    }
+    std::optional<Loop> loop = verify(frame, matches[k], nearby, base);
+    spdlog::debug("keyframe {} (frame {}) against keyframe {}: {} descriptor matches, {} inliers", kf->id,
+                  kf->frame_id, probe.id, -minus_n, loop ? loop->inliers : 0);
+    if (!loop) continue;
+    ++stats_.candidates_matched;
+    const Pose G = loop->correction();
+    const Vec3 c = base.T_cw_map.inverse().translation();
+    const double shift_m = (G * c - c).norm();
+    const double angle_deg = rotationAngle(G.linear()) * kRadToDeg;
+    spdlog::debug("keyframe {}: loop with keyframe {}: {} inliers, the map has it {:.3f} m / {:.2f} deg off", kf->id,
+                  probe.id, loop->inliers, shift_m, angle_deg);
+    if (shift_m < cfg_.loop.min_correction_m && angle_deg < cfg_.loop.min_correction_deg) {
+      ++stats_.consistent;
+      continue;
+    }
+    if (!best || loop->inliers > best->inliers) {
+      best = std::move(loop);
+      best->old_id = probe.id;
+    }
+  }
+  if (!best) return std::nullopt;
+  ++stats_.detected;
+  return best;
+}
+
+std::optional<LoopCloser::Loop> LoopCloser::verify(const data::Frame& frame,
+                                                   const std::vector<std::shared_ptr<MapPoint>>& descriptor_matches,
+                                                   const std::vector<std::shared_ptr<MapPoint>>& nearby,
+                                                   const Loop& base) const {
+  data::Frame probe = frame;
+  probe.map_points = descriptor_matches;
+  Pose T_cw = Pose::Identity();
+  if (optimize::solvePnpRansac(probe, cam_, probe.map_points, T_cw) < kMinPnpInliers) return std::nullopt;
+  probe.T_cw = T_cw;
+  std::fill(probe.outlier.begin(), probe.outlier.end(), 0);
+  if (optimize::optimizeFramePose(probe, K_, pyr_) < kMinPnpInliers) return std::nullopt;
+  // With a pose, the old side's points are searched where they project: many more matches than
+  // appearance alone finds across the change of viewpoint (ORB-SLAM2 does the same after Sim3).
+  for (int i = 0; i < probe.size(); ++i) {
+    if (probe.outlier[i]) probe.map_points[i].reset();
+  }
+  std::fill(probe.outlier.begin(), probe.outlier.end(), 0);
+  std::vector<std::shared_ptr<MapPoint>> visible;
+  for (const auto& mp : nearby) {
+    if (matcher_.isInFrustum(*mp, probe.T_cw, 0.5)) visible.push_back(mp);
+  }
+  matcher_.searchByProjection(probe, visible, 3.0f);
+  const int inliers = optimize::optimizeFramePose(probe, K_, pyr_);
+  if (inliers < cfg_.loop.min_inliers) return std::nullopt;
+  Loop loop = base;
+  loop.T_cw_loop = orthonormalized(probe.T_cw);
+  loop.inliers = inliers;
+  return loop;
+}
+
+bool LoopCloser::agree(const Loop& a, const Loop& b) {
+  const Pose D = a.correction().inverse() * b.correction();
+  const Vec3 c = b.T_cw_map.inverse().translation();
+  return (D * c - c).norm() < kAgreeM && rotationAngle(D.linear()) * kRadToDeg < kAgreeDeg;
+}
+
+bool LoopCloser::close(const Loop& loop) {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  // A new segment or a re-anchoring moved the map while the loop was being verified.
+  const auto old = map_.keyFrame(loop.old_id);
+  if (map_.generation() != loop.generation || loop.kf->bad || !old || old->bad) return false;
+  const auto nodes = map_.keyFrames();
+  std::map<const KeyFrame*, int> index;
+  optimize::PoseGraph graph;
+  for (const auto& k : nodes) {
+    index[k.get()] = int(graph.poses.size());
+    graph.poses.push_back(k->T_cw());
+    graph.fixed.push_back(graph.poses.size() == 1 ? 1 : 0);  // the segment's oldest keyframe holds the gauge
+  }
+  auto addEdge = [&](const KeyFrame* a, const KeyFrame* b, double weight) {
+    const auto ia = index.find(a), ib = index.find(b);
+    if (ia == index.end() || ib == index.end()) return;
+    graph.edges.push_back({ia->second, ib->second, a->T_cw() * b->T_wc(), weight});
+  };
+  // Edges weighted by shared points: the frames where the map forked share few with those
+  // before, so the correction goes there rather than into the well-tied keyframes either side.
+  for (const auto& k : nodes) {
+    if (k->parent && !k->parent->bad) {
+      const auto w = k->connections.find(k->parent);
+      addEdge(k.get(), k->parent, w == k->connections.end() ? 1.0 : double(w->second));
+    }
+    for (const auto& [other, w] : k->connections) {
+      if (w >= kCovisibilityEdge && other->id < k->id && other != k->parent && !other->bad) addEdge(k.get(), other, w);
+    }
+  }
+  const auto ik = index.find(loop.kf.get()), io = index.find(old.get());
+  if (ik == index.end() || io == index.end()) return false;
+  // The loop edge outweighs any chain of covisibility edges: the measurement is trusted.
+  graph.edges.push_back({ik->second, io->second, loop.T_cw_loop * old->T_wc(), kLoopEdgeWeight});
+  optimize::PoseGraphOptions opts;
+  opts.iterations = 50;
+  if (!optimize::optimizePoseGraph(graph, opts)) return false;
+
+  // Points move with their reference keyframe (or the first observer still in the map).
+  std::map<const KeyFrame*, Pose> moved;  // T_new_old of each keyframe's attached points
+  for (size_t k = 0; k < nodes.size(); ++k) moved[nodes[k].get()] = graph.poses[k].inverse() * nodes[k]->T_cw();
+  for (const auto& mp : map_.mapPoints()) {
+    const KeyFrame* ref = mp->reference && moved.count(mp->reference) ? mp->reference : nullptr;
+    for (auto it = mp->observations.begin(); !ref && it != mp->observations.end(); ++it) {
+      if (moved.count(it->first)) ref = it->first;
+    }
+    if (!ref) continue;
+    const Pose& T = moved.at(ref);
+    mp->pos_w = T * mp->pos_w;
+    mp->normal = T.linear() * mp->normal;
+  }
+  for (size_t k = 0; k < nodes.size(); ++k) nodes[k]->setPose(orthonormalized(graph.poses[k]));
+
+  // The two branches now overlap: fuse the old side's points into the new keyframe's neighbourhood.
+  std::vector<KeyFrame*> targets{loop.kf.get()};
+  for (KeyFrame* n : loop.kf->bestCovisibles(kFuseNeighbours)) targets.push_back(n);
+  std::vector<std::shared_ptr<MapPoint>> old_points;
+  std::vector<KeyFrame*> sources{old.get()};
+  for (KeyFrame* n : old->bestCovisibles(kFuseNeighbours)) sources.push_back(n);
+  std::map<long, bool> taken;
+  for (KeyFrame* s : sources) {
+    for (const auto& mp : s->map_points) {
+      if (mp && !mp->bad && !taken[mp->id]) {
+        taken[mp->id] = true;
+        old_points.push_back(mp);
+      }
+    }
+  }
+  int fused = 0;
+  for (KeyFrame* t : targets) {
+    if (!t->bad && t->features) fused += matcher_.fuse(map_, *t, old_points);
+  }
+  for (KeyFrame* t : targets) {
+    if (!t->bad && t->features) t->updateConnections();
+  }
+  map_.noteCorrection();
+  const Pose G = loop.correction();
+  const Vec3 c = loop.T_cw_map.inverse().translation();
+  stats_.closed++;
+  stats_.last_correction_m = (G * c - c).norm();
+  stats_.last_correction_deg = rotationAngle(G.linear()) * kRadToDeg;
+  spdlog::info("loop closed: keyframe {} (frame {}) with keyframe {} (frame {}), {} inliers; the map had it {:.3f} m / "
+               "{:.1f} deg off; {} keyframes corrected, {} points fused",
+               loop.kf->id, loop.kf->frame_id, old->id, old->frame_id, loop.inliers, stats_.last_correction_m,
+               stats_.last_correction_deg, nodes.size(), fused);
+  return true;
+}
+
+}  // namespace tkgslam::loop

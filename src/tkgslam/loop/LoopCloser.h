@@ -1,0 +1,93 @@
+#pragma once
+// Loop closing for RGB-D (after ORB-SLAM2's LoopClosing, without a bag-of-words vocabulary).
+// A few wrong frames - people the detector missed, a blurred stretch - can put the camera, and
+// every keyframe made after them, in a rotated and shifted copy of the world: the map forks, and
+// tracking carries on consistently in the wrong frame because its local map holds only the new
+// branch. When the camera then sees a place an older keyframe saw, this module finds the fork
+// and closes it:
+//  - detection: each new keyframe's static keypoints are matched by descriptors against the
+//    points of the older keyframes it shares no map point with (the best-observed 300 of each);
+//    the best `loop.candidates` are verified: EPnP + RANSAC, the pose-only optimisation, then the
+//    old keyframe's neighbourhood searched by projection and the pose optimised again (at least
+//    loop.min_inliers inliers, depth included). A pose further than loop.min_correction_m / _deg
+//    from the map's is a loop; with loop.confirm only once the next keyframe finds the same
+//    correction (within 3 cm and 2 deg);
+//  - correction: an SE(3) pose graph over the active keyframes - spanning tree and covisibility
+//    edges weighted by their shared points, the loop edge far stronger - with the oldest keyframe
+//    fixed, so the correction goes where the two branches are weakly tied (that may be the old
+//    keyframe's side, when it is the one off); each point moves with its reference keyframe; the
+//    old side's points are fused into the new keyframe and its neighbours, so local BA ties the
+//    two branches together from then on.
+// Frame poses are stored relative to keyframes, so the trajectory follows the correction.
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "tkgslam/camera/PinholeCamera.h"
+#include "tkgslam/data/Map.h"
+#include "tkgslam/feature/ScalePyramid.h"
+#include "tkgslam/match/OrbMatcher.h"
+#include "tkgslam/optimize/PoseOptimizer.h"
+#include "tkgslam/system/SlamConfig.h"
+
+namespace tkgslam::loop {
+
+struct LoopStats {
+  int keyframes_checked = 0;
+  int candidates_matched = 0;  ///< keyframe pairs verified by PnP
+  int consistent = 0;          ///< loops found where the map already has the camera
+  int detected = 0;            ///< loops whose correction exceeded the thresholds
+  int closed = 0;              ///< loops corrected
+  double last_correction_m = 0;    ///< camera-centre shift of the last closing keyframe
+  double last_correction_deg = 0;
+  double total_ms = 0;             ///< time spent in process() (detection and correction)
+};
+
+class LoopCloser {
+ public:
+  LoopCloser(data::Map& map, const camera::PinholeCamera& camera, const feature::ScalePyramid& pyramid,
+             const SlamConfig& config);
+
+  /// Looks for a loop from `kf` (after local mapping has processed it) and closes it (a
+  /// confirmed one with loop.confirm). Takes the map lock only while reading and while correcting. Returns true if the map
+  /// was corrected.
+  bool process(const std::shared_ptr<data::KeyFrame>& kf);
+
+  const LoopStats& stats() const { return stats_; }
+
+ private:
+  struct Loop {
+    std::shared_ptr<data::KeyFrame> kf;   ///< the new keyframe
+    long old_id = -1;                     ///< the older keyframe it matched
+    Pose T_cw_loop;       ///< kf's pose measured against old's points (old's world)
+    Pose T_cw_map;        ///< kf's pose in the map when it was matched
+    int inliers = 0;
+    long generation = 0;  ///< map generation when matched
+    /// T_loop_map = T_cw_loop^-1 * T_cw_map: moves the map's world into the loop-consistent one.
+    Pose correction() const { return T_cw_loop.inverse() * T_cw_map; }
+  };
+
+  /// Keyframes at least loop.min_keyframe_gap older than `kf` that share no map point with it.
+  std::vector<std::shared_ptr<data::KeyFrame>> candidatesFor(const data::KeyFrame& kf) const;
+  /// A copy of a map point's position, descriptor and viewing range (matching runs unlocked).
+  static std::shared_ptr<data::MapPoint> copyOf(const data::MapPoint& mp);
+  std::optional<Loop> detect(const std::shared_ptr<data::KeyFrame>& kf);
+  /// The new keyframe's pose from its descriptor matches to an old keyframe's points (RANSAC),
+  /// refined with the old neighbourhood's points found by projection. Lock not held.
+  std::optional<Loop> verify(const data::Frame& frame, const std::vector<std::shared_ptr<data::MapPoint>>& descriptor_matches,
+                             const std::vector<std::shared_ptr<data::MapPoint>>& nearby, const Loop& base) const;
+  /// Two detections agree on the correction (applied at the later keyframe's camera).
+  static bool agree(const Loop& a, const Loop& b);
+  bool close(const Loop& loop);
+
+  data::Map& map_;
+  const camera::PinholeCamera& cam_;
+  const feature::ScalePyramid& pyr_;
+  const SlamConfig& cfg_;
+  match::OrbMatcher matcher_;
+  optimize::PinholeIntrinsics K_;
+  std::optional<Loop> pending_;  ///< detected on the previous keyframe, awaiting confirmation
+  LoopStats stats_;
+};
+
+}  // namespace tkgslam::loop

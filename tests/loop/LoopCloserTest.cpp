@@ -1,0 +1,181 @@
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "TestSupport.h"
+#include "tkgslam/camera/PinholeCamera.h"
+#include "tkgslam/data/FrameFeatures.h"
+#include "tkgslam/data/KeyFrame.h"
+#include "tkgslam/data/Map.h"
+#include "tkgslam/data/MapPoint.h"
+#include "tkgslam/feature/OrbExtractor.h"
+#include "tkgslam/io/ConfigFile.h"
+#include "tkgslam/io/TrajectoryFile.h"
+#include "tkgslam/io/TumDataset.h"
+#include "tkgslam/loop/LoopCloser.h"
+
+namespace tkgslam {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+// A map built from real fr1_xyz frames at their ground-truth poses (relative to frame 0): an old
+// keyframe at frame 0, and new keyframes a second later that see the same desk. With `fork` the
+// new keyframes and their points sit in a copy of the world rotated by 10 degrees and shifted by
+// 15 cm - what a few frames tracked on a person the detector missed leave behind - and share no
+// point with the old keyframe, so local BA cannot see the disagreement.
+class ForkedMap : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    TKGSLAM_REQUIRE_SHARED();
+    config_ = io::loadConfig((test::sourceDir() / "configs" / "tum_fr1.yaml").string());
+    config_.deterministic = true;
+    config_.loop.min_keyframe_gap = 1;
+    config_.loop.confirm = true;
+    camera_ = std::make_unique<camera::PinholeCamera>(config_.camera);
+    extractor_ = std::make_unique<feature::OrbExtractor>(config_.orb);
+    dataset_ = std::make_unique<io::TumDataset>(test::fr1xyz().string());
+    truth_ = io::readTumTrajectory((test::fr1xyz() / "groundtruth.txt").string());
+  }
+
+  // World -> camera at frame i, the world being camera 0 (ground truth, nearest stamp).
+  Pose truePose(int i) const { return (truthAt(dataset_->timestamp(0)).inverse() * truthAt(dataset_->timestamp(i))).inverse(); }
+
+  Pose truthAt(double t) const {
+    const auto it = std::min_element(truth_.begin(), truth_.end(), [t](const auto& a, const auto& b) {
+      return std::abs(a.timestamp - t) < std::abs(b.timestamp - t);
+    });
+    return it->pose();
+  }
+
+  // A keyframe of frame i at pose T_cw with a map point for every keypoint with depth.
+  std::shared_ptr<data::KeyFrame> addKeyFrame(int i, const Pose& T_cw) {
+    const auto images = dataset_->load(i);
+    auto features = data::makeFrameFeatures(extractor_->extract(images.gray), images.bgr, images.depth_m, *camera_,
+                                            config_.depth);
+    auto kf = std::make_shared<data::KeyFrame>(map_.newKeyFrameId(), i, images.timestamp, features, T_cw);
+    for (int k = 0; k < features->size(); ++k) {
+      if (!features->hasDepth(k)) continue;
+      const Vec3 pw = kf->T_wc() * camera_->unproject(Vec2(features->ideal[k].pt.x, features->ideal[k].pt.y),
+                                                       features->depth[k]);
+      auto mp = std::make_shared<data::MapPoint>(map_.newMapPointId(), pw, kf.get(), features->descriptors.row(k));
+      mp->observations[kf.get()] = k;
+      kf->addMapPoint(mp, k);
+      map_.addMapPoint(mp);
+      mp->updateNormalAndDepth(extractor_->pyramid());
+    }
+    map_.addKeyFrame(kf);
+    return kf;
+  }
+
+  // The old keyframe, then two new ones (frames 30 and 33; the second observes the first's points
+  // so the two are covisible, as consecutive keyframes are), in the forked world or not.
+  void build(bool fork) {
+    old_ = addKeyFrame(0, truePose(0));
+    old_->not_erase = true;
+    Pose G = Pose::Identity();  // true world -> forked world
+    if (fork) {
+      G.linear() = Eigen::AngleAxisd(10 * kDeg, Vec3(0.2, 1, 0.1).normalized()).toRotationMatrix();
+      G.translation() = Vec3(0.15, -0.05, 0.03);
+    }
+    first_ = addKeyFrame(30, truePose(30) * G.inverse());
+    second_ = addKeyFrame(33, truePose(33) * G.inverse());
+    for (size_t k = 0; k < first_->map_points.size() && k < second_->map_points.size(); k += 2) {
+      // Share every other point of the first keyframe with the second (covisibility only).
+      const auto& mp = first_->map_points[k];
+      if (mp && !second_->map_points[k]) {
+        mp->observations[second_.get()] = int(k);
+        second_->addMapPoint(mp, int(k));
+      }
+    }
+    first_->updateConnections();
+    second_->updateConnections();
+    ASSERT_EQ(first_->connections.count(old_.get()), 0u);
+  }
+
+  static double centreError(const data::KeyFrame& kf, const Pose& T_cw_true) {
+    return (kf.centre() - T_cw_true.inverse().translation()).norm();
+  }
+
+  SlamConfig config_;
+  std::unique_ptr<camera::PinholeCamera> camera_;
+  std::unique_ptr<feature::OrbExtractor> extractor_;
+  std::unique_ptr<io::TumDataset> dataset_;
+  std::vector<io::TrajectoryEntry> truth_;
+  data::Map map_;
+  std::shared_ptr<data::KeyFrame> old_, first_, second_;
+};
+
+TEST_F(ForkedMap, AConfirmedLoopPutsTheForkedKeyframesBackWhereTheCameraWas) {
+  build(/*fork=*/true);
+  ASSERT_GT(centreError(*second_, truePose(33)), 0.1);
+  loop::LoopCloser closer(map_, *camera_, extractor_->pyramid(), config_);
+  EXPECT_FALSE(closer.process(first_));  // found, waiting for the next keyframe to confirm
+  EXPECT_EQ(closer.stats().detected, 1);
+  ASSERT_TRUE(closer.process(second_));
+  EXPECT_EQ(closer.stats().closed, 1);
+  EXPECT_GT(closer.stats().last_correction_m, 0.1);
+
+  // Both new keyframes within 2 cm and 1 degree of the truth; the old one did not move.
+  for (const auto& [kf, frame] : {std::pair{first_, 30}, std::pair{second_, 33}}) {
+    EXPECT_LT(centreError(*kf, truePose(frame)), 0.02) << "frame " << frame;
+    EXPECT_LT(rotationAngle(kf->T_cw().linear() * truePose(frame).linear().transpose()), 1 * kDeg) << "frame " << frame;
+  }
+  EXPECT_TRUE(old_->T_cw().isApprox(truePose(0)));
+  // The new keyframes' points moved with them: seen from the true pose they lie on their keypoints'
+  // depth again (median over the points with depth, within 2 cm).
+  std::vector<double> depth_errors;
+  const auto& F = *second_->features;
+  for (int k = 0; k < F.size(); ++k) {
+    const auto& mp = second_->map_points[k];
+    if (mp && !mp->bad && F.hasDepth(k)) depth_errors.push_back(std::abs((truePose(33) * mp->pos_w).z() - F.depth[k]));
+  }
+  ASSERT_GT(depth_errors.size(), 100u);
+  std::nth_element(depth_errors.begin(), depth_errors.begin() + depth_errors.size() / 2, depth_errors.end());
+  EXPECT_LT(depth_errors[depth_errors.size() / 2], 0.02);
+  // The old keyframe's points were fused into the new ones: the two sides are covisible now.
+  EXPECT_GT(second_->connections.count(old_.get()) + first_->connections.count(old_.get()), 0u);
+}
+
+TEST_F(ForkedMap, WithoutConfirmationTheFirstDetectionCloses) {
+  build(/*fork=*/true);
+  config_.loop.confirm = false;
+  loop::LoopCloser closer(map_, *camera_, extractor_->pyramid(), config_);
+  ASSERT_TRUE(closer.process(first_));
+  EXPECT_LT(centreError(*first_, truePose(30)), 0.02);
+  EXPECT_LT(centreError(*second_, truePose(33)), 0.02);  // moved with it: covisible
+}
+
+TEST_F(ForkedMap, WithConfirmationASingleDetectionIsNotEnough) {
+  build(/*fork=*/true);
+  const Pose before = first_->T_cw();
+  loop::LoopCloser closer(map_, *camera_, extractor_->pyramid(), config_);
+  EXPECT_FALSE(closer.process(first_));
+  EXPECT_EQ(closer.stats().detected, 1);
+  EXPECT_EQ(closer.stats().closed, 0);
+  EXPECT_TRUE(first_->T_cw().isApprox(before));
+}
+
+TEST_F(ForkedMap, WhereTheMapAlreadyHasTheCameraNothingMoves) {
+  build(/*fork=*/false);
+  const Pose before = second_->T_cw();
+  loop::LoopCloser closer(map_, *camera_, extractor_->pyramid(), config_);
+  EXPECT_FALSE(closer.process(first_));
+  EXPECT_FALSE(closer.process(second_));
+  EXPECT_GE(closer.stats().consistent, 2);  // the loop was found, and agreed with the map
+  EXPECT_EQ(closer.stats().detected, 0);
+  EXPECT_TRUE(second_->T_cw().isApprox(before));
+}
+
+TEST_F(ForkedMap, DisabledLoopClosingLeavesTheForkAlone) {
+  build(/*fork=*/true);
+  config_.loop.enabled = false;
+  loop::LoopCloser closer(map_, *camera_, extractor_->pyramid(), config_);
+  EXPECT_FALSE(closer.process(first_));
+  EXPECT_FALSE(closer.process(second_));
+  EXPECT_EQ(closer.stats().keyframes_checked, 0);
+  EXPECT_GT(centreError(*second_, truePose(33)), 0.1);
+}
+
+}  // namespace
+}  // namespace tkgslam
