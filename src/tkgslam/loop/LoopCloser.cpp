@@ -79,6 +79,19 @@ std::vector<std::shared_ptr<KeyFrame>> LoopCloser::candidatesFor(const KeyFrame&
   return out;
 }
 
+std::vector<std::shared_ptr<MapPoint>> LoopCloser::pointsAround(const KeyFrame& kf) {
+  std::vector<const KeyFrame*> sources{&kf};
+  for (KeyFrame* n : kf.bestCovisibles(kFuseNeighbours)) sources.push_back(n);
+  std::vector<std::shared_ptr<MapPoint>> out;
+  std::set<long> taken;
+  for (const KeyFrame* src : sources) {
+    for (const auto& mp : src->map_points) {
+      if (mp && !mp->bad && taken.insert(mp->id).second) out.push_back(mp);
+    }
+  }
+  return out;
+}
+
 std::shared_ptr<MapPoint> LoopCloser::copyOf(const MapPoint& mp) {
   auto copy = std::make_shared<MapPoint>(mp.id, mp.pos_w, nullptr, mp.descriptor);
   copy->normal = mp.normal;
@@ -138,24 +151,14 @@ std::optional<LoopCloser::Loop> LoopCloser::detect(const std::shared_ptr<KeyFram
       std::lock_guard<std::mutex> lock(map_.mutex());
       const auto old = map_.keyFrame(probe.id);
       if (!old || old->bad) continue;
-      std::vector<KeyFrame*> sources{old.get()};
-      for (KeyFrame* n : old->bestCovisibles(kFuseNeighbours)) sources.push_back(n);
-      std::set<long> taken;
-      for (KeyFrame* src : sources) {
-        for (const auto& mp : src->map_points) {
-          if (mp && !mp->bad && taken.insert(mp->id).second) nearby.push_back(copyOf(*mp));
-        }
-      }
+      for (const auto& mp : pointsAround(*old)) nearby.push_back(copyOf(*mp));
     }
     std::optional<Loop> loop = verify(frame, matches[k], nearby, base);
     spdlog::debug("keyframe {} (frame {}) against keyframe {}: {} descriptor matches, {} inliers", kf->id,
                   kf->frame_id, probe.id, -minus_n, loop ? loop->inliers : 0);
     if (!loop) continue;
     ++stats_.candidates_matched;
-    const Pose G = loop->correction();
-    const Vec3 c = base.T_cw_map.inverse().translation();
-    const double shift_m = (G * c - c).norm();
-    const double angle_deg = rotationAngle(G.linear()) * kRadToDeg;
+    const double shift_m = loop->shiftM(), angle_deg = loop->angleDeg();
     spdlog::debug("keyframe {}: loop with keyframe {}: {} inliers, the map has it {:.3f} m / {:.2f} deg off", kf->id,
                   probe.id, loop->inliers, shift_m, angle_deg);
     if (shift_m < cfg_.loop.min_correction_m && angle_deg < cfg_.loop.min_correction_deg) {
@@ -263,18 +266,7 @@ bool LoopCloser::close(const Loop& loop) {
   // The two branches now overlap: fuse the old side's points into the new keyframe's neighbourhood.
   std::vector<KeyFrame*> targets{loop.kf.get()};
   for (KeyFrame* n : loop.kf->bestCovisibles(kFuseNeighbours)) targets.push_back(n);
-  std::vector<std::shared_ptr<MapPoint>> old_points;
-  std::vector<KeyFrame*> sources{old.get()};
-  for (KeyFrame* n : old->bestCovisibles(kFuseNeighbours)) sources.push_back(n);
-  std::map<long, bool> taken;
-  for (KeyFrame* s : sources) {
-    for (const auto& mp : s->map_points) {
-      if (mp && !mp->bad && !taken[mp->id]) {
-        taken[mp->id] = true;
-        old_points.push_back(mp);
-      }
-    }
-  }
+  const std::vector<std::shared_ptr<MapPoint>> old_points = pointsAround(*old);
   int fused = 0;
   for (KeyFrame* t : targets) {
     if (!t->bad && t->features) fused += matcher_.fuse(map_, *t, old_points);
@@ -283,11 +275,9 @@ bool LoopCloser::close(const Loop& loop) {
     if (!t->bad && t->features) t->updateConnections();
   }
   map_.noteCorrection();
-  const Pose G = loop.correction();
-  const Vec3 c = loop.T_cw_map.inverse().translation();
   stats_.closed++;
-  stats_.last_correction_m = (G * c - c).norm();
-  stats_.last_correction_deg = rotationAngle(G.linear()) * kRadToDeg;
+  stats_.last_correction_m = loop.shiftM();
+  stats_.last_correction_deg = loop.angleDeg();
   spdlog::info("loop closed: keyframe {} (frame {}) with keyframe {} (frame {}), {} inliers; the map had it {:.3f} m / "
                "{:.1f} deg off; {} keyframes corrected, {} points fused",
                loop.kf->id, loop.kf->frame_id, old->id, old->frame_id, loop.inliers, stats_.last_correction_m,

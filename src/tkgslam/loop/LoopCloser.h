@@ -19,6 +19,7 @@
 //    old side's points are fused into the new keyframe and its neighbours, so local BA ties the
 //    two branches together from then on.
 // Frame poses are stored relative to keyframes, so the trajectory follows the correction.
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -65,10 +66,18 @@ class LoopCloser {
     long generation = 0;  ///< map generation when matched
     /// T_loop_map = T_cw_loop^-1 * T_cw_map: moves the map's world into the loop-consistent one.
     Pose correction() const { return T_cw_loop.inverse() * T_cw_map; }
+    /// How far the correction moves the new keyframe's camera centre (m), and turns it (deg).
+    double shiftM() const {
+      const Vec3 c = T_cw_map.inverse().translation();
+      return (correction() * c - c).norm();
+    }
+    double angleDeg() const { return rotationAngle(correction().linear()) * 180.0 / M_PI; }
   };
 
   /// Keyframes at least loop.min_keyframe_gap older than `kf` that share no map point with it.
   std::vector<std::shared_ptr<data::KeyFrame>> candidatesFor(const data::KeyFrame& kf) const;
+  /// The points of `kf` and of its best covisible keyframes, each once (map lock held).
+  static std::vector<std::shared_ptr<data::MapPoint>> pointsAround(const data::KeyFrame& kf);
   /// A copy of a map point's position, descriptor and viewing range (matching runs unlocked).
   static std::shared_ptr<data::MapPoint> copyOf(const data::MapPoint& mp);
   std::optional<Loop> detect(const std::shared_ptr<data::KeyFrame>& kf);
