@@ -241,9 +241,9 @@ int runSlam(const RunOptions& o) {
   }
   if (const auto ls = slam.loopStats(); ls.closed > 0) {
     std::printf("loops closed: %d (loops found %d, %d of them where the map already had the camera; %.1f ms per "
-                "keyframe checked)\n",
+                "keyframe checked; %d global bundle adjustment(s), the last %.0f ms)\n",
                 ls.closed, ls.detected + ls.consistent, ls.consistent,
-                ls.keyframes_checked ? ls.total_ms / ls.keyframes_checked : 0.0);
+                ls.keyframes_checked ? ls.total_ms / ls.keyframes_checked : 0.0, ls.global_bundles, ls.last_global_ba_ms);
   }
   std::printf("time per frame: mean %.1f ms, median %.1f ms (ORB+tracking median %.1f ms)\n",
               slam.timing().mean("total"), slam.timing().median("total"), slam.timing().median("orb_and_tracking"));

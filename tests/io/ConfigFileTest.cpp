@@ -66,6 +66,10 @@ TEST(ConfigFile, LoopClosingSection) {
   EXPECT_FALSE(c.loop.enabled);
   EXPECT_EQ(c.loop.min_inliers, 60);
   EXPECT_DOUBLE_EQ(c.loop.min_correction_m, 0.1);
+  EXPECT_EQ(defaults.loop.global_ba_iterations, 10);
+  EXPECT_EQ(io::parseConfig(std::string(kMinimal) + "loop: {global_ba_iterations: 0}", "x").loop.global_ba_iterations, 0);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "loop: {global_ba_iterations: -1}").find("loop.global_ba_iterations must be >= 0"),
+            std::string::npos);
   EXPECT_NE(errorOf(std::string(kMinimal) + "loop: {min_inliers: 5}").find("loop.min_inliers must be >= 10"),
             std::string::npos);
   EXPECT_NE(errorOf(std::string(kMinimal) + "loop: {candidates: 0}").find("loop.candidates must be >= 1"),

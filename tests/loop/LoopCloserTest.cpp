@@ -1,4 +1,5 @@
 #include <cmath>
+#include <cstdio>
 
 #include <gtest/gtest.h>
 
@@ -93,6 +94,27 @@ class ForkedMap : public ::testing::Test {
     ASSERT_EQ(first_->connections.count(old_.get()), 0u);
   }
 
+  // Median reprojection error (pixels) of the new keyframes' observations of the old keyframe's
+  // points (fused into them when the loop closed).
+  double medianReprojectionError() const {  // (EXPECTs enough observations)
+    std::vector<double> e;
+    for (const auto& kf : {first_, second_}) {
+      const auto& F = *kf->features;
+      for (size_t k = 0; k < kf->map_points.size(); ++k) {
+        const auto& mp = kf->map_points[k];
+        if (!mp || mp->bad || !mp->observations.count(old_.get())) continue;
+        const Vec3 pc = kf->T_cw() * mp->pos_w;
+        if (pc.z() <= 0) continue;
+        const Vec2 uv(camera_->fx() * pc.x() / pc.z() + camera_->cx(), camera_->fy() * pc.y() / pc.z() + camera_->cy());
+        e.push_back((uv - Vec2(F.ideal[k].pt.x, F.ideal[k].pt.y)).norm());
+      }
+    }
+    EXPECT_GE(e.size(), 20u) << "too few fused observations to measure";
+    if (e.empty()) return 0;
+    std::nth_element(e.begin(), e.begin() + e.size() / 2, e.end());
+    return e[e.size() / 2];
+  }
+
   static double centreError(const data::KeyFrame& kf, const Pose& T_cw_true) {
     return (kf.centre() - T_cw_true.inverse().translation()).norm();
   }
@@ -135,6 +157,36 @@ TEST_F(ForkedMap, AConfirmedLoopPutsTheForkedKeyframesBackWhereTheCameraWas) {
   EXPECT_LT(depth_errors[depth_errors.size() / 2], 0.02);
   // The old keyframe's points were fused into the new ones: the two sides are covisible now.
   EXPECT_GT(second_->connections.count(old_.get()) + first_->connections.count(old_.get()), 0u);
+}
+
+// The pose graph moves each keyframe rigidly with its points, so what it leaves is inconsistent
+// where the two sides meet: the old keyframe's points fused into the new keyframes sit where the
+// new keyframes see them only roughly. The global bundle adjustment after it refits keyframes
+// and points to all the observations: the new keyframes' reprojection error drops.
+constexpr double kRefitPx = 1.4;  // median px: above without global BA, below with it
+
+TEST_F(ForkedMap, GlobalBundleAdjustmentRefitsTheClosedLoop) {
+  build(/*fork=*/true);
+  config_.loop.global_ba_iterations = 10;
+  loop::LoopCloser closer(map_, *camera_, extractor_->pyramid(), config_);
+  closer.process(first_);
+  ASSERT_TRUE(closer.process(second_));
+  EXPECT_EQ(closer.stats().global_bundles, 1);
+  EXPECT_TRUE(old_->T_cw().isApprox(truePose(0)));  // the gauge did not move
+  std::printf("with global BA: %.3f px; %.4f m (frame 30), %.4f m (frame 33)\n", medianReprojectionError(), centreError(*first_, truePose(30)), centreError(*second_, truePose(33)));
+  EXPECT_LT(medianReprojectionError(), kRefitPx);
+  EXPECT_LT(centreError(*second_, truePose(33)), 0.02);
+}
+
+TEST_F(ForkedMap, WithoutGlobalBundleAdjustmentThePoseGraphLeavesItLessConsistent) {
+  build(/*fork=*/true);
+  config_.loop.global_ba_iterations = 0;
+  loop::LoopCloser closer(map_, *camera_, extractor_->pyramid(), config_);
+  closer.process(first_);
+  ASSERT_TRUE(closer.process(second_));
+  EXPECT_EQ(closer.stats().global_bundles, 0);
+  std::printf("without global BA: %.3f px; %.4f m (frame 30), %.4f m (frame 33)\n", medianReprojectionError(), centreError(*first_, truePose(30)), centreError(*second_, truePose(33)));
+  EXPECT_GT(medianReprojectionError(), kRefitPx);
 }
 
 TEST_F(ForkedMap, WithoutConfirmationTheFirstDetectionCloses) {

@@ -60,8 +60,6 @@ class KeyFrame {
   void eraseMapPoint(int idx) { map_points[idx].reset(); }
 
   // Scratch for local mapping / tracking.
-  long ba_local_for = -1;
-  long ba_fixed_for = -1;
   long fuse_target_for = -1;
   long track_reference_for = -1;
 

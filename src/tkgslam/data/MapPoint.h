@@ -43,7 +43,6 @@ class MapPoint {
   float track_x = 0, track_y = 0, track_x_right = 0, track_view_cos = 0;
   int track_level = 0;
   // Scratch used by local mapping.
-  long ba_local_for = -1;
   long fuse_for = -1;
 
   /// Observation weight as ORB-SLAM2 counts it: 2 for an observation with depth, else 1.

@@ -198,12 +198,14 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     s.get("candidates", c.loop.candidates);
     s.get("min_correction_m", c.loop.min_correction_m);
     s.get("min_correction_deg", c.loop.min_correction_deg);
+    s.get("global_ba_iterations", c.loop.global_ba_iterations);
     s.checkNoUnknownKeys();
     require(c.loop.min_inliers >= 10, source, "loop.min_inliers must be >= 10");
     require(c.loop.min_keyframe_gap >= 1, source, "loop.min_keyframe_gap must be >= 1");
     require(c.loop.candidates >= 1, source, "loop.candidates must be >= 1");
     require(c.loop.min_correction_m >= 0, source, "loop.min_correction_m must be >= 0");
     require(c.loop.min_correction_deg >= 0, source, "loop.min_correction_deg must be >= 0");
+    require(c.loop.global_ba_iterations >= 0, source, "loop.global_ba_iterations must be >= 0");
   }
   {
     Section s(root, "dynamic", source, false);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <tuple>
 
@@ -13,6 +14,7 @@
 #include "tkgslam/common/Elapsed.h"
 #include "tkgslam/data/Frame.h"
 #include "tkgslam/optimize/FramePose.h"
+#include "tkgslam/optimize/MapBundle.h"
 #include "tkgslam/optimize/PoseGraphOptimizer.h"
 
 namespace tkgslam::loop {
@@ -65,6 +67,7 @@ bool LoopCloser::process(const std::shared_ptr<KeyFrame>& kf) {
   pending_.reset();
   const auto t1 = std::chrono::steady_clock::now();
   const bool closed = close(*loop);
+  if (closed && cfg_.loop.global_ba_iterations > 0) globalBundleAdjustment();
   stats_.total_ms += msSince(t1);
   return closed;
 }
@@ -282,6 +285,62 @@ bool LoopCloser::close(const Loop& loop) {
                "{:.1f} deg off; {} keyframes corrected, {} points fused",
                loop.kf->id, loop.kf->frame_id, old->id, old->frame_id, loop.inliers, stats_.last_correction_m,
                stats_.last_correction_deg, nodes.size(), fused);
+  return true;
+}
+
+bool LoopCloser::globalBundleAdjustment() {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::optional<optimize::MapBundle> bundle;
+  std::vector<Pose> before;  // T_cw of each problem keyframe as copied
+  long generation = 0;
+  {
+    std::lock_guard<std::mutex> lock(map_.mutex());
+    generation = map_.generation();
+    std::vector<KeyFrame*> window;
+    for (const auto& k : map_.keyFrames()) {
+      if (!k->bad && k->features) window.push_back(k.get());
+    }
+    if (window.size() < 2) return false;
+    bundle.emplace(map_, window, pyr_);
+    bundle->fix(window.front());  // the segment's oldest keyframe holds the gauge, as in close()
+    before = bundle->problem().poses;
+  }
+  optimize::BundleOptions opts;
+  opts.iterations_second = cfg_.loop.global_ba_iterations;
+  opts.threads = cfg_.deterministic ? 1 : 2;
+  const auto outlier = optimize::solveBundle(bundle->problem(), K_, opts);
+
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  // A new segment or a re-anchoring moved the map while the solver ran.
+  if (map_.generation() != generation) return false;
+  // What the solution does to each keyframe's surroundings: T_new_old (old world -> new world).
+  std::map<const KeyFrame*, Pose> moved;
+  const auto& cams = bundle->keyFrames();
+  for (size_t i = 0; i < cams.size(); ++i) moved[cams[i].get()] = bundle->problem().poses[i].inverse() * before[i];
+  bundle->apply(map_, outlier, pyr_);
+  // Keyframes tracking made while the solver ran follow their nearest ancestor in the problem
+  // (ids grow along the spanning tree, so ancestors come first) ...
+  for (const auto& k : map_.keyFrames()) {
+    if (moved.count(k.get())) continue;
+    const auto parent = k->parent ? moved.find(k->parent) : moved.end();
+    const Pose T = parent == moved.end() ? Pose::Identity() : parent->second;
+    moved[k.get()] = T;
+    k->setPose(orthonormalized(k->T_cw() * T.inverse()));
+  }
+  // ... and so do the points they made.
+  for (const auto& mp : map_.mapPoints()) {
+    if (bundle->contains(*mp) || !mp->reference) continue;
+    const auto it = moved.find(mp->reference);
+    if (it == moved.end()) continue;
+    mp->pos_w = it->second * mp->pos_w;
+    mp->normal = it->second.linear() * mp->normal;
+  }
+  map_.noteCorrection();
+  stats_.global_bundles++;
+  stats_.last_global_ba_ms = msSince(t0);
+  spdlog::info("global bundle adjustment: {} keyframes, {} points, {} observations ({} outliers) in {:.0f} ms", cams.size(),
+               bundle->problem().points.size(), outlier.size(), std::count(outlier.begin(), outlier.end(), 1),
+               stats_.last_global_ba_ms);
   return true;
 }
 

@@ -17,7 +17,9 @@
 //    fixed, so the correction goes where the two branches are weakly tied (that may be the old
 //    keyframe's side, when it is the one off); each point moves with its reference keyframe; the
 //    old side's points are fused into the new keyframe and its neighbours, so local BA ties the
-//    two branches together from then on.
+//    two branches together from then on;
+//  - then, with loop.global_ba_iterations, a bundle adjustment over every active keyframe and
+//    point refits what the rigid pose-graph moves left inconsistent (as ORB-SLAM2 does).
 // Frame poses are stored relative to keyframes, so the trajectory follows the correction.
 #include <cmath>
 #include <memory>
@@ -41,7 +43,9 @@ struct LoopStats {
   int closed = 0;              ///< loops corrected
   double last_correction_m = 0;    ///< camera-centre shift of the last closing keyframe
   double last_correction_deg = 0;
-  double total_ms = 0;             ///< time spent in process() (detection and correction)
+  int global_bundles = 0;          ///< global bundle adjustments written back
+  double last_global_ba_ms = 0;
+  double total_ms = 0;             ///< time spent in process() (detection, correction, global BA)
 };
 
 class LoopCloser {
@@ -88,6 +92,10 @@ class LoopCloser {
   /// Two detections agree on the correction (applied at the later keyframe's camera).
   static bool agree(const Loop& a, const Loop& b);
   bool close(const Loop& loop);
+  /// Bundle adjustment over the active keyframes and points (the oldest fixed), after a closure.
+  /// Solved without the lock; keyframes and points made meanwhile move with their parent /
+  /// reference keyframe. Returns true if written back.
+  bool globalBundleAdjustment();
 
   data::Map& map_;
   const camera::PinholeCamera& cam_;

@@ -2,6 +2,9 @@
 
 #include <chrono>
 #include <mutex>
+#include <optional>
+
+#include "tkgslam/optimize/MapBundle.h"
 
 namespace tkgslam::mapping {
 
@@ -97,80 +100,28 @@ void LocalMapper::fuseWithNeighbours(KeyFrame& kf) {
 
 void LocalMapper::localBundleAdjustment(KeyFrame& kf) {
   const auto t0 = std::chrono::steady_clock::now();
-  optimize::BundleProblem problem;
-  std::vector<std::shared_ptr<KeyFrame>> cams;
-  std::vector<std::shared_ptr<MapPoint>> points;
-  std::vector<std::pair<KeyFrame*, MapPoint*>> obs_refs;
+  std::optional<optimize::MapBundle> bundle;
   long generation = 0;
   {
     std::lock_guard<std::mutex> lock(map_.mutex());
     generation = map_.generation();
     // Local window: the keyframe and all its covisible keyframes.
     std::vector<KeyFrame*> local{&kf};
-    kf.ba_local_for = kf.id;
     for (KeyFrame* n : kf.ordered_connections) {
-      if (n->bad) continue;
-      n->ba_local_for = kf.id;
-      local.push_back(n);
+      if (!n->bad) local.push_back(n);
     }
-    std::map<long, int> cam_index;  // keyframe id -> camera index
-    auto addCam = [&](KeyFrame* k, bool fixed) {
-      auto it = cam_index.find(k->id);
-      if (it != cam_index.end()) return it->second;
-      const int i = int(cams.size());
-      cam_index[k->id] = i;
-      cams.push_back(map_.keyFrame(k->id));
-      problem.poses.push_back(k->T_cw());
-      problem.fixed_pose.push_back(fixed || k->id == 0 ? 1 : 0);
-      return i;
-    };
-    for (KeyFrame* k : local) addCam(k, false);
-    for (KeyFrame* k : local) {
-      for (const auto& mp : k->map_points) {
-        if (!mp || mp->bad || mp->ba_local_for == kf.id) continue;
-        mp->ba_local_for = kf.id;
-        const int pi = int(points.size());
-        points.push_back(mp);
-        problem.points.push_back(mp->pos_w);
-        for (const auto& [obs_kf, idx] : mp->observations) {
-          if (obs_kf->bad) continue;
-          // Keyframes outside the window that see local points are fixed.
-          const int ci = addCam(obs_kf, obs_kf->ba_local_for != kf.id);
-          const auto& F = *obs_kf->features;
-          optimize::BundleObservation o;
-          o.camera = ci;
-          o.point = pi;
-          o.uv = Vec2(F.ideal[idx].pt.x, F.ideal[idx].pt.y);
-          o.u_right = F.u_right[idx];
-          o.information = pyr_.inv_sigma2[F.ideal[idx].octave];
-          problem.observations.push_back(o);
-          obs_refs.emplace_back(obs_kf, mp.get());
-        }
-      }
-    }
+    bundle.emplace(map_, local, pyr_);
   }
-  if (problem.observations.empty()) return;
+  if (bundle->problem().observations.empty()) return;
   optimize::BundleOptions opts;
   opts.iterations_second = cfg_.mapping.local_ba_iterations;
   opts.threads = cfg_.deterministic ? 1 : 2;
-  const auto outlier = optimize::solveBundle(problem, K_, opts);
+  const auto outlier = optimize::solveBundle(bundle->problem(), K_, opts);
   {
     std::lock_guard<std::mutex> lock(map_.mutex());
     // Tracking moved the map into another frame (or started a new one) while the solver ran.
     if (map_.generation() != generation) return;
-    for (size_t k = 0; k < outlier.size(); ++k) {
-      if (!outlier[k]) continue;
-      auto [okf, mp] = obs_refs[k];
-      if (!mp->bad && !okf->bad) map_.eraseObservation(mp, okf);
-    }
-    for (size_t i = 0; i < cams.size(); ++i) {
-      if (!problem.fixed_pose[i] && !cams[i]->bad) cams[i]->setPose(problem.poses[i]);
-    }
-    for (size_t i = 0; i < points.size(); ++i) {
-      if (points[i]->bad) continue;
-      points[i]->pos_w = problem.points[i];
-      points[i]->updateNormalAndDepth(pyr_);
-    }
+    bundle->apply(map_, outlier, pyr_);
   }
   stats_.last_ba_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }

@@ -69,6 +69,10 @@ struct LoopParams {
   int candidates = 3;           ///< old keyframes verified per new keyframe (best by descriptor matches)
   double min_correction_m = 0.05;   ///< smaller disagreements are left to local BA
   double min_correction_deg = 3.0;  ///< ... in rotation (degrees)
+  /// Bundle adjustment over every keyframe and point after a closure (0 = none): the pose graph
+  /// moves keyframes rigidly with their points; this refits both to the observations across the
+  /// closed loop.
+  int global_ba_iterations = 10;
 };
 
 /// Dynamic-object handling, the paper's ablations (Table 3):
