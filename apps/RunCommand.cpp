@@ -221,13 +221,13 @@ int runSlam(const RunOptions& o) {
             fmt::format("{{\"dataset\": \"{}\", \"config\": \"{}\", \"mode\": \"{}\", \"deterministic\": {}, "
                         "\"frames\": {}, \"tracked\": {}, \"tracked_ratio\": {:.4f}, \"predicted\": {}, "
                         "\"interpolated_lost\": {}, \"blurred\": {}, \"skipped\": {}, "
-                        "\"keyframes\": {}, \"loops_closed\": {}, "
+                        "\"keyframes\": {}, \"keyframes_held\": {}, \"loops_closed\": {}, "
                         "\"map_points\": {}, \"mean_ms_per_frame\": {:.2f}, \"median_ms_per_frame\": {:.2f}, "
                         "\"ratio_threshold\": {}}}\n",
                         std::filesystem::absolute(o.dataset).lexically_normal().string(),
                         std::filesystem::absolute(o.config).lexically_normal().string(), toString(config.dynamic.mode),
                         config.deterministic ? "true" : "false", n, traj.size(), ratio, predicted, interpolated, blurred, skipped,
-                        slam.keyFrameCount(), slam.loopStats().closed,
+                        slam.keyFrameCount(), slam.mappingStats().keyframes_held, slam.loopStats().closed,
                         slam.mapPointCount(), slam.timing().mean("total"), slam.timing().median("total"),
                         config.dynamic.geometry.ratio_threshold));
   std::printf("frames %d, tracked %zu (%.2f %%; %d of them predicted, %d lost and then interpolated), blurred %d, "
@@ -238,6 +238,10 @@ int runSlam(const RunOptions& o) {
   if (segments > 0) {
     std::printf("tracking was lost for good %d time(s): %d new map segment(s), %d re-anchored to the one before\n",
                 segments, segments, reanchored);
+  }
+  if (const int held = slam.mappingStats().keyframes_held; held > 0) {
+    std::printf("local BA held %d new keyframe(s) where tracking put them (it moved them further than "
+                "mapping.max_keyframe_shift_m / _deg)\n", held);
   }
   if (const auto ls = slam.loopStats(); ls.closed > 0) {
     std::printf("loops closed: %d (loops found %d, %d of them where the map already had the camera; %.1f ms per "

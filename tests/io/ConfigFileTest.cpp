@@ -79,6 +79,17 @@ TEST(ConfigFile, LoopClosingSection) {
   EXPECT_NE(errorOf(std::string(kMinimal) + "loop: {enable: true}").find("unknown key 'loop.enable'"), std::string::npos);
 }
 
+TEST(ConfigFile, MappingKeyFrameHold) {
+  const auto defaults = io::parseConfig(kMinimal, "x");
+  EXPECT_DOUBLE_EQ(defaults.mapping.max_keyframe_shift_m, 0);  // off by default
+  EXPECT_DOUBLE_EQ(defaults.mapping.max_keyframe_shift_deg, 0);
+  const auto on = io::parseConfig(std::string(kMinimal) + "mapping: {max_keyframe_shift_m: 0.03, max_keyframe_shift_deg: 2.5}", "x");
+  EXPECT_DOUBLE_EQ(on.mapping.max_keyframe_shift_m, 0.03);
+  EXPECT_DOUBLE_EQ(on.mapping.max_keyframe_shift_deg, 2.5);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "mapping: {max_keyframe_shift: 1}").find("unknown key 'mapping.max_keyframe_shift'"),
+            std::string::npos);
+}
+
 TEST(ConfigFile, InvalidValuesAreClearErrors) {
   EXPECT_NE(errorOf("camera: {width: 640, height: 480, fx: 0, fy: 500, cx: 320, cy: 240}").find("fx and fy must be > 0"),
             std::string::npos);

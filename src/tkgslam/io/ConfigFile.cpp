@@ -182,6 +182,8 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     s.get("local_ba_iterations", c.mapping.local_ba_iterations);
     s.get("covisible_keyframes", c.mapping.covisible_keyframes);
     s.get("keyframe_redundancy", c.mapping.keyframe_redundancy);
+    s.get("max_keyframe_shift_m", c.mapping.max_keyframe_shift_m);
+    s.get("max_keyframe_shift_deg", c.mapping.max_keyframe_shift_deg);
     s.get("cull_keyframes", c.mapping.cull_keyframes);
     s.checkNoUnknownKeys();
     require(c.mapping.local_ba_iterations >= 0, source, "mapping.local_ba_iterations must be >= 0");

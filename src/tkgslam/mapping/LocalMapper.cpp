@@ -4,6 +4,8 @@
 #include <mutex>
 #include <optional>
 
+#include <spdlog/spdlog.h>
+
 #include "tkgslam/optimize/MapBundle.h"
 
 namespace tkgslam::mapping {
@@ -116,7 +118,17 @@ void LocalMapper::localBundleAdjustment(KeyFrame& kf) {
   optimize::BundleOptions opts;
   opts.iterations_second = cfg_.mapping.local_ba_iterations;
   opts.threads = cfg_.deterministic ? 1 : 2;
-  const auto outlier = optimize::solveBundle(bundle->problem(), K_, opts);
+  const optimize::BundleProblem start = bundle->problem();
+  auto outlier = optimize::solveBundle(bundle->problem(), K_, opts);
+  // The new keyframe comes first in the problem. Where the solution moves it far from where
+  // tracking put it, people's points the masks missed pulled it (static scenes never do): solved
+  // again with it held, those points become the outliers instead.
+  if (!start.fixed_pose[0] && shiftedTooFar(start.poses[0], bundle->problem().poses[0])) {
+    bundle->problem() = start;
+    bundle->problem().fixed_pose[0] = 1;
+    outlier = optimize::solveBundle(bundle->problem(), K_, opts);
+    stats_.keyframes_held++;
+  }
   {
     std::lock_guard<std::mutex> lock(map_.mutex());
     // Tracking moved the map into another frame (or started a new one) while the solver ran.
@@ -124,6 +136,16 @@ void LocalMapper::localBundleAdjustment(KeyFrame& kf) {
     bundle->apply(map_, outlier, pyr_);
   }
   stats_.last_ba_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+bool LocalMapper::shiftedTooFar(const Pose& tracked, const Pose& solved) const {
+  const auto& m = cfg_.mapping;
+  const double metres = (solved.inverse().translation() - tracked.inverse().translation()).norm();
+  const double deg = rotationAngle((solved * tracked.inverse()).linear()) * 180.0 / M_PI;
+  const bool too_far = (m.max_keyframe_shift_m > 0 && metres > m.max_keyframe_shift_m) ||
+                       (m.max_keyframe_shift_deg > 0 && deg > m.max_keyframe_shift_deg);
+  if (too_far) spdlog::debug("local BA moved the new keyframe {:.3f} m / {:.2f} deg from its tracked pose: held there", metres, deg);
+  return too_far;
 }
 
 void LocalMapper::cullKeyFrames(KeyFrame& kf) {

@@ -21,6 +21,7 @@ struct MappingStats {
   int points_fused = 0;
   int keyframes_culled = 0;
   double last_ba_ms = 0;
+  int keyframes_held = 0;  ///< new keyframes a local BA moved too far, held at their tracked pose
 };
 
 class LocalMapper {
@@ -34,10 +35,15 @@ class LocalMapper {
 
   const MappingStats& stats() const { return stats_; }
 
+  /// Bundle adjustment over `kf` and its covisible keyframes (process() runs it); keyframes
+  /// outside the window that see its points are held fixed, and so is keyframe 0.
+  void localBundleAdjustment(data::KeyFrame& kf);
+
  private:
   void cullRecentPoints(data::KeyFrame& kf);
   void fuseWithNeighbours(data::KeyFrame& kf);
-  void localBundleAdjustment(data::KeyFrame& kf);
+  /// Whether local BA moved a keyframe further than mapping.max_keyframe_shift_* (T_cw both).
+  bool shiftedTooFar(const Pose& tracked, const Pose& solved) const;
   void cullKeyFrames(data::KeyFrame& kf);
 
   data::Map& map_;

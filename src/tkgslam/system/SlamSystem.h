@@ -89,6 +89,8 @@ class SlamSystem {
   const TimingStats& timing() const { return timing_; }
   /// Loop closing so far (zeros with loop.enabled off). Read after finish() in threaded runs.
   loop::LoopStats loopStats() const { return loop_closer_ ? loop_closer_->stats() : loop::LoopStats{}; }
+  /// Local mapping's counters (read after the run: the mapping thread writes them).
+  mapping::MappingStats mappingStats() const { return mapper_ ? mapper_->stats() : mapping::MappingStats{}; }
   const std::vector<DynamicFrameInfo>& dynamicInfo() const { return dynamic_info_; }
   /// Filled for frames that come with a truth mask.
   const KeypointClassification& classification() const { return classification_; }
