@@ -118,13 +118,16 @@ void LocalMapper::localBundleAdjustment(KeyFrame& kf) {
   optimize::BundleOptions opts;
   opts.iterations_second = cfg_.mapping.local_ba_iterations;
   opts.threads = cfg_.deterministic ? 1 : 2;
-  const optimize::BundleProblem start = bundle->problem();
+  // Optional hold (mapping.max_keyframe_shift_*): the new keyframe comes first in the problem.
+  // Where the solution moves it far from where tracking put it (static scenes never do; on the
+  // composites a keyframe whose view is mostly on people is weakly constrained), it is solved
+  // again from the start with that keyframe fixed.
+  const bool hold = cfg_.mapping.max_keyframe_shift_m > 0 || cfg_.mapping.max_keyframe_shift_deg > 0;
+  std::optional<optimize::BundleProblem> start;
+  if (hold && !bundle->problem().fixed_pose[0]) start = bundle->problem();
   auto outlier = optimize::solveBundle(bundle->problem(), K_, opts);
-  // The new keyframe comes first in the problem. Where the solution moves it far from where
-  // tracking put it, people's points the masks missed pulled it (static scenes never do): solved
-  // again with it held, those points become the outliers instead.
-  if (!start.fixed_pose[0] && shiftedTooFar(start.poses[0], bundle->problem().poses[0])) {
-    bundle->problem() = start;
+  if (start && shiftedTooFar(start->poses[0], bundle->problem().poses[0])) {
+    bundle->problem() = std::move(*start);
     bundle->problem().fixed_pose[0] = 1;
     outlier = optimize::solveBundle(bundle->problem(), K_, opts);
     stats_.keyframes_held++;

@@ -56,7 +56,7 @@ struct MappingParams {
   /// A local BA that moves its new keyframe further than this from where tracking put it
   /// (metres, degrees) is solved again with the keyframe held there. On the static fr1_xyz no
   /// keyframe moves more than 0.9 cm / 0.4 deg; on the composites the bundle moved new keyframes
-  /// up to 14 cm / 8.5 deg, pulled by people's points the masks missed, and forked the map. Off
+  /// whose view is mostly on people (weakly constrained) up to 14 cm / 8.5 deg. Off
   /// by default: where tracking itself was off, holding the keyframe keeps the error (TKG helped,
   /// TKGt hurt on the composites; bench/results/keyframe_hold_300.md). <= 0 = off; e.g. 0.03 / 1.5.
   double max_keyframe_shift_m = 0;
