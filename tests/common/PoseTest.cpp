@@ -78,6 +78,19 @@ TEST(Pose, InterpolationMovesTheCameraCentreStraightAndTurnsAtAConstantRate) {
   EXPECT_LT((m.inverse().translation() - (ca + (cb - ca) / 3)).norm(), 1e-12);
 }
 
+TEST(Pose, GapIsTheCameraCentresDistanceAndTheRelativeRotation) {
+  const Pose a = poseFromTranslationQuaternion(Vec3(0.3, -0.2, 1.0), 0.1, 0.2, -0.1, 0.97);
+  Pose turn = Pose::Identity();  // 5 deg about an axis through the camera centre: the centre stays
+  turn.linear() = Eigen::AngleAxisd(5.0 * M_PI / 180, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  const Pose b = turn * a;
+  EXPECT_NEAR(poseGap(a, b).deg, 5.0, 1e-9);
+  EXPECT_NEAR(poseGap(a, b).metres, 0.0, 1e-12);
+  Pose shift = Pose::Identity();  // the camera moved 4 cm along its own x axis: T_cw gains -0.04 x
+  shift.translation() = Vec3(-0.04, 0, 0);
+  EXPECT_NEAR(poseGap(shift * a, a).metres, 0.04, 1e-12);
+  EXPECT_NEAR(poseGap(shift * a, a).deg, 0.0, 1e-9);
+}
+
 TEST(Pose, TrajectoryEntryPoseIsCameraToWorld) {
   io::TrajectoryEntry e;
   e.t = Vec3(1, 2, 3);

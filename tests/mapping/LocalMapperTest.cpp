@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "SyntheticKeypoints.h"
 #include "tkgslam/camera/PinholeCamera.h"
 #include "tkgslam/data/Map.h"
 #include "tkgslam/mapping/LocalMapper.h"
@@ -30,6 +31,7 @@ class PersonInTheWindow : public ::testing::Test {
       T.translation() = Vec3(-0.05 * c, 0, 0);
       truth_.push_back(T);
     }
+    const auto K = optimize::intrinsicsOf(camera_->fx(), camera_->fy(), camera_->cx(), camera_->cy(), config_.depth.baseline_fx);
     const Vec3 person_step(0.08, 0, 0);  // where the person's points appear to the newest keyframe
     std::vector<Vec3> points;
     std::vector<char> person;
@@ -41,14 +43,7 @@ class PersonInTheWindow : public ::testing::Test {
       auto F = std::make_shared<data::FrameFeatures>();
       for (size_t p = 0; p < points.size(); ++p) {
         const Vec3 pw = person[p] && c == 3 ? Vec3(points[p] + person_step) : points[p];
-        const Vec3 q = truth_[size_t(c)] * pw;
-        const float u = float(camera_->fx() * q.x() / q.z() + camera_->cx());
-        const float v = float(camera_->fy() * q.y() / q.z() + camera_->cy());
-        F->raw.emplace_back(u, v, 31.f, -1.f, 0.f, 0);
-        F->ideal.push_back(F->raw.back());
-        F->depth.push_back(float(q.z()));
-        F->u_right.push_back(float(u - config_.depth.baseline_fx / q.z()));
-        F->excluded.push_back(0);
+        test::addProjectedKeypoint(*F, truth_[size_t(c)] * pw, K);
       }
       F->descriptors = cv::Mat::zeros(F->size(), 32, CV_8U);
       auto kf = std::make_shared<data::KeyFrame>(map_.newKeyFrameId(), c, c, F, truth_[size_t(c)]);

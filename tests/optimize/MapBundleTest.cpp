@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "SyntheticKeypoints.h"
 #include "tkgslam/data/Map.h"
 #include "tkgslam/optimize/MapBundle.h"
 
@@ -26,15 +27,7 @@ class SmallMap : public ::testing::Test {
     for (int p = 0; p < 80; ++p) points_.push_back(Vec3(ux(rng), 0.7 * ux(rng), uz(rng)));
     for (int c = 0; c < 4; ++c) {
       auto F = std::make_shared<data::FrameFeatures>();
-      for (const Vec3& pw : points_) {
-        const Vec3 q = truth_[size_t(c)] * pw;
-        const float u = float(K_.fx * q.x() / q.z() + K_.cx), v = float(K_.fy * q.y() / q.z() + K_.cy);
-        F->raw.emplace_back(u, v, 31.f, -1.f, 0.f, 0);
-        F->ideal.push_back(F->raw.back());
-        F->depth.push_back(float(q.z()));
-        F->u_right.push_back(float(u - K_.bf / q.z()));
-        F->excluded.push_back(0);
-      }
+      for (const Vec3& pw : points_) test::addProjectedKeypoint(*F, truth_[size_t(c)] * pw, K_);
       F->descriptors = cv::Mat::zeros(F->size(), 32, CV_8U);
       auto kf = std::make_shared<data::KeyFrame>(map_.newKeyFrameId(), c, c, F, truth_[size_t(c)]);
       kf->map_points.resize(points_.size());

@@ -61,4 +61,9 @@ double rotationAngle(const Mat3& R) {
   return std::acos(c);
 }
 
+PoseGap poseGap(const Pose& a_cw, const Pose& b_cw) {
+  return {(a_cw.inverse().translation() - b_cw.inverse().translation()).norm(),
+          180.0 / M_PI * Eigen::AngleAxisd(a_cw.linear() * b_cw.linear().transpose()).angle()};
+}
+
 }  // namespace tkgslam

@@ -42,4 +42,12 @@ Pose interpolatePose(const Pose& a, const Pose& b, double s);
 /// Rotation angle of a rotation matrix in radians, in [0, pi].
 double rotationAngle(const Mat3& R);
 
+/// How far apart two world->camera poses are: distance of the camera centres (metres) and angle of
+/// the relative rotation (degrees).
+struct PoseGap {
+  double metres;
+  double deg;
+};
+PoseGap poseGap(const Pose& a_cw, const Pose& b_cw);
+
 }  // namespace tkgslam

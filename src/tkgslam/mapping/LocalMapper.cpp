@@ -143,8 +143,7 @@ void LocalMapper::localBundleAdjustment(KeyFrame& kf) {
 
 bool LocalMapper::shiftedTooFar(const Pose& tracked, const Pose& solved) const {
   const auto& m = cfg_.mapping;
-  const double metres = (solved.inverse().translation() - tracked.inverse().translation()).norm();
-  const double deg = rotationAngle((solved * tracked.inverse()).linear()) * 180.0 / M_PI;
+  const auto [metres, deg] = poseGap(solved, tracked);
   const bool too_far = (m.max_keyframe_shift_m > 0 && metres > m.max_keyframe_shift_m) ||
                        (m.max_keyframe_shift_deg > 0 && deg > m.max_keyframe_shift_deg);
   if (too_far) spdlog::debug("local BA moved the new keyframe {:.3f} m / {:.2f} deg from its tracked pose: held there", metres, deg);

@@ -407,9 +407,7 @@ bool Tracker::interpolateBridgedRecords(const std::vector<double>& lost) {
 }
 
 bool Tracker::poseJumped(const Pose& T_cw, int periods) const {
-  const Pose P = predictPose();
-  const double deg = 180.0 / M_PI * Eigen::AngleAxisd(T_cw.linear() * P.linear().transpose()).angle();
-  const double metres = (T_cw.inverse().translation() - P.inverse().translation()).norm();
+  const auto [metres, deg] = poseGap(T_cw, predictPose());
   const auto& t = cfg_.tracking;
   const bool jumped = (t.max_jump_deg > 0 && deg > periods * t.max_jump_deg) ||
                       (t.max_jump_m > 0 && metres > periods * t.max_jump_m);
