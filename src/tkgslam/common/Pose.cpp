@@ -61,6 +61,8 @@ double rotationAngle(const Mat3& R) {
   return std::acos(c);
 }
 
+// Not rotationAngle(): its acos (kept TUM-exact for RPE) has a floor of ~1e-8 rad near zero, where
+// these gaps mostly are; the angle-axis form is accurate there.
 PoseGap poseGap(const Pose& a_cw, const Pose& b_cw) {
   return {(a_cw.inverse().translation() - b_cw.inverse().translation()).norm(),
           180.0 / M_PI * Eigen::AngleAxisd(a_cw.linear() * b_cw.linear().transpose()).angle()};
