@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "Commands.h"
+#include "NumberChecks.h"
 #include "tkgslam/augment/SequenceAugmenter.h"
 #include "tkgslam/common/Error.h"
 #include "tkgslam/io/ConfigFile.h"
@@ -56,11 +57,11 @@ Action addAugmentCommand(CLI::App& app) {
   cmd->add_option("--count", a.people, "Number of people")->default_val(1)->check(CLI::Range(1, 20));
   cmd->add_option("--min-size", a.min_size, "Smallest person height, fraction of the image height")->default_val(0.3);
   cmd->add_option("--max-size", a.max_size, "Largest person height, fraction of the image height")->default_val(0.6);
-  cmd->add_option("--speed", a.speed, "Peak walking speed, m/s")->default_val(0.3)->check(CLI::PositiveNumber);
+  cmd->add_option("--speed", a.speed, "Peak walking speed, m/s")->default_val(0.3)->check(positiveNumber());
   cmd->add_option("--blur", a.blur_probability, "Share of frames with motion blur")->default_val(0.0)
       ->check(CLI::Range(0.0, 1.0));
   cmd->add_flag("--blur-people", a.blur_people_only, "Blur only the people (fast walkers), not the whole frame");
-  cmd->add_option("--frames", a.max_frames, "Only the first N frames")->default_val(0)->check(CLI::NonNegativeNumber);
+  cmd->add_option("--frames", a.max_frames, "Only the first N frames")->default_val(0)->check(nonNegativeNumber());
   return [o] { return runAugment(*o); };
 }
 

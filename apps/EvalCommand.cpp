@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "Commands.h"
+#include "NumberChecks.h"
 #include "tkgslam/common/Error.h"
 #include "tkgslam/eval/Ate.h"
 #include "tkgslam/eval/Rpe.h"
@@ -109,7 +110,7 @@ Action addEvalCommand(CLI::App& app) {
                   "Write the per-pose ATE (timestamp, error, aligned positions) to this text file");
   cmd->add_option("--frames", opts->frames,
                   "Input frame list (rgb.txt or a dataset folder) to report the tracked-frame ratio");
-  cmd->add_option("--delta", opts->delta, "RPE time delta in seconds")->default_val(1.0)->check(CLI::PositiveNumber);
+  cmd->add_option("--delta", opts->delta, "RPE time delta in seconds")->default_val(1.0)->check(positiveNumber());
   return [opts] { return runEval(*opts); };
 }
 

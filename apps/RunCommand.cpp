@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 
 #include "Commands.h"
+#include "NumberChecks.h"
 #include "tkgslam/common/Error.h"
 #include "tkgslam/common/ResidentMemory.h"
 #include "tkgslam/eval/Ate.h"
@@ -265,6 +266,10 @@ int runSlam(const RunOptions& o) {
   if (o.report) std::printf("report: %s\n", report::writeHtmlReport(o.out).c_str());
   std::printf("outputs: %s/{trajectory.txt, keyframes.txt, map.ply, timing.json, run.json, frame_log.txt, memory.tsv}\n",
               o.out.c_str());
+  if (processed == 0 && skipped > 0 && !g_interrupted) {
+    // Outputs are written (frame_log.txt says why each frame failed), but an empty trajectory is no result.
+    throw InputError(fmt::format("no frame could be read ({} tried; see {}/frame_log.txt)", skipped, o.out));
+  }
   return g_interrupted ? 130 : 0;
 }
 
@@ -278,16 +283,16 @@ Action addRunCommand(CLI::App& app) {
   cmd->add_option("-o,--out", o->out, "Output folder")->required();
   cmd->add_flag("--deterministic", o->deterministic,
                 "Same input, same trajectory bit for bit (mapping runs in step with tracking)");
-  cmd->add_option("--max-frames", o->max_frames, "Process only the first N frames")->check(CLI::NonNegativeNumber);
-  cmd->add_option("--loops", o->loops, "Play the sequence N times (soak test)")->check(CLI::PositiveNumber);
+  cmd->add_option("--max-frames", o->max_frames, "Process only the first N frames")->check(nonNegativeNumber());
+  cmd->add_option("--loops", o->loops, "Play the sequence N times (soak test)")->check(positiveNumber());
   cmd->add_flag("-q,--quiet", o->quiet, "No progress lines");
   cmd->add_flag("--report", o->report, "Also write OUT/report.html (plots, 3-D view, timings)");
   cmd->add_option("--mode", o->mode, "Dynamic handling: orb, T, TK, TG or TKG (overrides dynamic.mode)");
   cmd->add_option("--detect-every", o->detect_every, "Run the detector on every N-th frame (overrides the config)")
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   cmd->add_option("--detector-latency", o->detector_latency,
                   "Use each detection L frames later, tracking meanwhile (0 = wait; overrides the config)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegativeNumber());
   cmd->add_option("--box-flow", o->box_flow, "Move boxes by optical flow between detections: auto, on, off")
       ->check(CLI::IsMember({"auto", "on", "off"}));
   cmd->add_option("--unboxed-check", o->unboxed_check,
@@ -306,7 +311,7 @@ Action addRunCommand(CLI::App& app) {
                   "Boxes cover at least this share: extract ORB again outside them (0 = off; overrides the config)")
       ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--opencv-threads", o->opencv_threads, "OpenCV's thread pool size (0 = default)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegativeNumber());
   cmd->add_option("--debug-dynamic", o->debug_dynamic,
                   "Write per-frame boxes, T and dropped keypoints as JSON lines to this file");
   return [o] { return runSlam(*o); };

@@ -78,6 +78,8 @@ TEST(EvalCli, BadInputExitsWithTwoAndAMessage) {
   EXPECT_EQ(test::runCli("eval /nonexistent.txt " + (tmp / "ok.txt").string(), &out), 2);
   EXPECT_NE(out.find("cannot open"), std::string::npos) << out;
   EXPECT_EQ(test::runCli("eval", &out), 2);
+  EXPECT_EQ(test::runCli("eval --delta 0 " + (tmp / "ok.txt").string() + " " + (tmp / "ok.txt").string(), &out), 2);
+  EXPECT_NE(out.find("--delta: must be more than 0, got 0"), std::string::npos) << out;
 }
 
 }  // namespace

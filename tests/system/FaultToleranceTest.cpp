@@ -143,6 +143,20 @@ TEST(FaultTolerance, BadFramesMidRunAreSkippedReportedAndTrackingRecovers) {
   for (const char* f : {"keyframes.txt", "map.ply", "timing.json", "run.json"}) EXPECT_TRUE(fs::exists(res / f)) << f;
 }
 
+// A sequence whose images all fail to load (wrong folder layout, a broken copy) has no result: the
+// run says so and exits with 2 instead of reporting success with an empty trajectory.
+TEST(FaultTolerance, ASequenceWithNoReadableFrameIsAnError) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  writeFaultySequence(
+      tmp / "seq", 4, [](int) { return false; }, [](int) { return FrameFault::Unreadable; },
+      [](int) { return FrameFault::None; });
+  std::string out;
+  EXPECT_EQ(runSequence(tmp.path(), "out", "", out), 2) << out;
+  EXPECT_NE(out.find("no frame could be read (4 tried"), std::string::npos) << out;
+  EXPECT_NE(test::readFile(tmp / "out" / "frame_log.txt").find("cannot read"), std::string::npos);
+}
+
 // Heavy motion blur or a hand in front of the lens for a frame or two: the constant-velocity
 // prediction bridges the frames, tracking resumes against the last tracked frame, and the frames
 // are listed as predicted - instead of relocalising (or starting a new map segment) afterwards.

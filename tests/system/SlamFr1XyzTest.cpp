@@ -47,6 +47,13 @@ TEST(SlamRunCli, BadInputIsAClearErrorNotACrash) {
                          &out),
             2);
   EXPECT_NE(out.find("does not exist"), std::string::npos) << out;
+  // A number out of range names the option and the rule, not CLI11's 0 to 1.8e308 written out.
+  EXPECT_EQ(test::runCli("run -c " + (test::sourceDir() / "configs/tum_fr1.yaml").string() +
+                             " -d /tmp -o /tmp/x --max-frames -3",
+                         &out),
+            2);
+  EXPECT_NE(out.find("--max-frames: must be 0 or more, got -3"), std::string::npos) << out;
+  EXPECT_LT(out.size(), 200u) << out;
 }
 
 }  // namespace
