@@ -10,6 +10,7 @@
 #include "Commands.h"
 #include "tkgslam/common/Error.h"
 #include "tkgslam/dynamic/YoloDetector.h"
+#include "tkgslam/io/OutputFolder.h"
 
 namespace tkgslam::app {
 
@@ -23,7 +24,7 @@ struct DetectOptions {
 
 int runDetect(DetectOptions o) {
   dynamic::YoloDetector detector(o.params);
-  std::filesystem::create_directories(o.out);
+  io::createOutputFolder(o.out);
   for (const auto& path : o.images) {
     const cv::Mat img = cv::imread(path, cv::IMREAD_COLOR);
     if (img.empty()) throw InputError(fmt::format("cannot read image '{}'", path));

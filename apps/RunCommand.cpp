@@ -14,6 +14,7 @@
 #include "tkgslam/common/ResidentMemory.h"
 #include "tkgslam/eval/Ate.h"
 #include "tkgslam/io/ConfigFile.h"
+#include "tkgslam/io/OutputFolder.h"
 #include "tkgslam/io/TrajectoryFile.h"
 #include "tkgslam/io/TumDataset.h"
 #include "tkgslam/report/HtmlReport.h"
@@ -98,7 +99,7 @@ int runSlam(const RunOptions& o) {
   dopt.expected_height = config.camera.height;
   dopt.loops = o.loops;
   io::TumDataset dataset(o.dataset, dopt);
-  std::filesystem::create_directories(o.out);
+  io::createOutputFolder(o.out);
   const std::filesystem::path out(o.out);
 
   SlamSystem slam(config);

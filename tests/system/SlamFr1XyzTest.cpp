@@ -54,6 +54,18 @@ TEST(SlamRunCli, BadInputIsAClearErrorNotACrash) {
             2);
   EXPECT_NE(out.find("--max-frames: must be 0 or more, got -3"), std::string::npos) << out;
   EXPECT_LT(out.size(), 200u) << out;
+  // An output folder that cannot be made is the user's input too (exit 2), not an internal error.
+  test::TempDir tmp;
+  test::writeText(tmp / "file", "x");
+  test::writeText(tmp / "seq" / "rgb.txt", "1.0 rgb/1.png\n");
+  test::writeText(tmp / "seq" / "depth.txt", "1.0 depth/1.png\n");
+  test::writeText(tmp / "seq" / "rgb" / "1.png", "not an image");
+  test::writeText(tmp / "seq" / "depth" / "1.png", "not an image");
+  EXPECT_EQ(test::runCli("run -c " + (test::sourceDir() / "configs/tum_fr1.yaml").string() + " -d " +
+                             (tmp / "seq").string() + " -o " + (tmp / "file").string(),
+                         &out),
+            2);
+  EXPECT_NE(out.find("cannot create output folder"), std::string::npos) << out;
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 
 #include "tkgslam/common/Error.h"
 #include "tkgslam/eval/Association.h"
+#include "tkgslam/io/OutputFolder.h"
 
 namespace fs = std::filesystem;
 
@@ -49,7 +50,7 @@ AugmentStats augmentSequence(const io::TumDataset& ds, const std::vector<io::Tra
     throw InputError("augment: need people >= 1 and 0 < min_size <= max_size <= 1.5");
   }
   const fs::path out(out_dir);
-  for (const char* sub : {"rgb", "depth", "masks"}) fs::create_directories(out / sub);
+  for (const char* sub : {"rgb", "depth", "masks"}) io::createOutputFolder((out / sub).string());
   std::vector<double> gt_stamps;
   for (const auto& e : gt) gt_stamps.push_back(e.timestamp);
   auto gtPose = [&](double t) { return gt[eval::findClosestIndex(gt_stamps, t)].pose(); };  // T_wc
