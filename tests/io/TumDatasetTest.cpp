@@ -109,9 +109,17 @@ TEST(TumDataset, WrongImageSize) {
   io::TumDatasetOptions o;
   o.expected_width = 640;
   o.expected_height = 480;
+  // A config for another camera is refused when the sequence is opened ...
+  const auto msg = errorOf([&] { io::TumDataset(tmp.path().string(), o); });
+  EXPECT_NE(msg.find("are 64x48 but the camera config says 640x480"), std::string::npos) << msg;
+  // ... and a single frame of another size in the middle is refused when it is loaded.
+  o.expected_width = 64;
+  o.expected_height = 48;
+  cv::imwrite((tmp.path() / "rgb" / "102.000000.jpg").string(), cv::Mat(20, 30, CV_8UC3, cv::Scalar(1, 2, 3)));
+  cv::imwrite((tmp.path() / "depth" / "102.010000.png").string(), cv::Mat(20, 30, CV_16UC1, cv::Scalar(1)));
   io::TumDataset ds(tmp.path().string(), o);
-  const auto msg = errorOf([&] { ds.load(0); });
-  EXPECT_NE(msg.find("camera config says 640x480"), std::string::npos) << msg;
+  EXPECT_EQ(errorOf([&] { ds.load(0); }), "");
+  EXPECT_NE(errorOf([&] { ds.load(2); }).find("is 30x20 but the camera config says 64x48"), std::string::npos);
   // Depth and colour of different sizes.
   cv::imwrite((tmp.path() / "depth" / "101.010000.png").string(), cv::Mat(10, 10, CV_16UC1, cv::Scalar(1)));
   io::TumDataset ds2(tmp.path().string());

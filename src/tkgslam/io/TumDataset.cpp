@@ -92,6 +92,17 @@ TumDataset::TumDataset(const std::string& directory, TumDatasetOptions options)
     }
     entries_.push_back(std::move(e));
   }
+  if (options_.expected_width > 0) {
+    // A camera config for another sensor fails every frame: say so once, here, rather than skipping
+    // the whole sequence frame by frame. (An unreadable first image is left to load().)
+    const cv::Mat first = cv::imread(entries_.front().rgb_path, cv::IMREAD_UNCHANGED);
+    if (!first.empty() && (first.cols != options_.expected_width || first.rows != options_.expected_height)) {
+      throw InputError(fmt::format("the images of '{}' are {}x{} but the camera config says {}x{}: a config "
+                                   "for another camera?",
+                                   directory, first.cols, first.rows, options_.expected_width,
+                                   options_.expected_height));
+    }
+  }
   has_masks_ = fs::is_directory(dir / "masks");
   const double span = entries_.back().rgb_timestamp - entries_.front().rgb_timestamp;
   loop_period_ = span + (entries_.size() > 1 ? span / double(entries_.size() - 1) : 1.0);
