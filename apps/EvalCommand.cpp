@@ -2,6 +2,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -64,7 +66,15 @@ int runEval(const EvalOptions& o) {
   if (gt.empty()) throw InputError(fmt::format("ground truth '{}' has no poses", o.gt));
   if (est.empty()) throw InputError(fmt::format("estimate '{}' has no poses", o.est));
   const auto ate = eval::computeAte(gt, est);
-  const auto rpe = eval::computeRpe(gt, est, o.delta);
+  // A trajectory shorter than the RPE delta still has an ATE: report it, and why there is no RPE.
+  std::optional<eval::RpeResult> rpe;
+  std::string no_rpe;
+  try {
+    rpe = eval::computeRpe(gt, est, o.delta);
+  } catch (const InputError& e) {
+    no_rpe = e.what();
+    std::fprintf(stderr, "warning: %s; only ATE reported\n", no_rpe.c_str());
+  }
   double tracked_ratio = -1;
   int input_frames = 0;
   if (!o.frames.empty()) {
@@ -78,7 +88,7 @@ int runEval(const EvalOptions& o) {
                 o.est.c_str(), est.size());
     std::printf(" \"ate_m\": %s,\n", statsJson(ate.stats).c_str());
     std::printf(" \"rpe_delta_s\": %.3f,\n \"rpe_translation_m\": %s,\n \"rpe_rotation_deg\": %s", o.delta,
-                statsJson(rpe.translation).c_str(), statsJson(rpe.rotation_deg).c_str());
+                rpe ? statsJson(rpe->translation).c_str() : "null", rpe ? statsJson(rpe->rotation_deg).c_str() : "null");
     if (tracked_ratio >= 0) {
       std::printf(",\n \"input_frames\": %d, \"tracked_ratio\": %.6f", input_frames, tracked_ratio);
     }
@@ -86,8 +96,12 @@ int runEval(const EvalOptions& o) {
   } else {
     std::printf("estimate poses: %zu, ground-truth poses: %zu\n", est.size(), gt.size());
     printStats("ATE", "m", ate.stats);
-    printStats(fmt::format("RPE translation ({:g} s)", o.delta).c_str(), "m", rpe.translation);
-    printStats(fmt::format("RPE rotation    ({:g} s)", o.delta).c_str(), "deg", rpe.rotation_deg);
+    if (rpe) {
+      printStats(fmt::format("RPE translation ({:g} s)", o.delta).c_str(), "m", rpe->translation);
+      printStats(fmt::format("RPE rotation    ({:g} s)", o.delta).c_str(), "deg", rpe->rotation_deg);
+    } else {
+      std::printf("RPE (%g s): not computed - %s\n", o.delta, no_rpe.c_str());
+    }
     if (tracked_ratio >= 0) {
       std::printf("tracked frames: %zu / %d = %.2f %%\n", est.size(), input_frames, 100.0 * tracked_ratio);
     }

@@ -68,6 +68,30 @@ TEST(EvalCli, JsonAndTrackedRatio) {
   EXPECT_NE(out.find("\"input_frames\": 798"), std::string::npos) << out;
 }
 
+// A run shorter than the RPE delta (e.g. --max-frames 20) still has an ATE worth reporting.
+TEST(EvalCli, ATrajectoryShorterThanTheRpeDeltaGetsItsAteAndSaysWhyThereIsNoRpe) {
+  test::TempDir tmp;
+  std::string gt, est;
+  for (int i = 0; i < 10; ++i) {
+    gt += fmt::format("{:.2f} {:.3f} {:.3f} 0 0 0 0 1\n", 100 + 0.05 * i, 0.01 * i, 0.002 * i * i);
+    est += fmt::format("{:.2f} {:.3f} {:.3f} 0.01 0 0 0 1\n", 100 + 0.05 * i, 0.01 * i, 0.002 * i * i + (i % 2) * 0.004);
+  }
+  test::writeText(tmp / "gt.txt", gt);
+  test::writeText(tmp / "est.txt", est);
+  const std::string files = (tmp / "gt.txt").string() + " " + (tmp / "est.txt").string();
+  std::string out;
+  EXPECT_EQ(test::runCli("eval " + files, &out), 0) << out;
+  EXPECT_NE(out.find("ATE: pairs 10  rmse 0.0020"), std::string::npos) << out;
+  EXPECT_NE(out.find("RPE (1 s): not computed - RPE: no pose pair 1 s apart"), std::string::npos) << out;
+  EXPECT_NE(out.find("the estimate spans 0.45 s"), std::string::npos) << out;
+  EXPECT_EQ(test::runCli("eval --json " + files, &out), 0) << out;
+  EXPECT_NE(out.find("\"rpe_translation_m\": null"), std::string::npos) << out;
+  EXPECT_NE(out.find("\"rmse\": 0.00199"), std::string::npos) << out;
+  // With a delta the trajectory spans, RPE is there.
+  EXPECT_EQ(test::runCli("eval --delta 0.1 " + files, &out), 0) << out;
+  EXPECT_NE(out.find("RPE translation (0.1 s): pairs"), std::string::npos) << out;
+}
+
 TEST(EvalCli, BadInputExitsWithTwoAndAMessage) {
   test::TempDir tmp;
   test::writeText(tmp / "bad.txt", "1 2 3\n");

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "tkgslam/common/Error.h"
 #include "tkgslam/eval/Association.h"
 
@@ -70,7 +72,10 @@ RpeResult computeRpe(const std::vector<io::TrajectoryEntry>& ground_truth,
     r.translation_errors.push_back(E.translation().norm());
     r.rotation_errors_deg.push_back(rotationAngle(E.linear()) * 180.0 / M_PI);
   }
-  if (r.timestamps.empty()) throw InputError("RPE: no pose pair 1 s apart matches the ground truth");
+  if (r.timestamps.empty()) {
+    throw InputError(fmt::format("RPE: no pose pair {:g} s apart matches the ground truth (the estimate spans {:.2f} s)",
+                                 delta_seconds, est.stamps.back() - est.stamps.front()));
+  }
   r.translation = ErrorStatistics::compute(r.translation_errors);
   r.rotation_deg = ErrorStatistics::compute(r.rotation_errors_deg);
   return r;
