@@ -26,8 +26,13 @@ int runDetect(DetectOptions o) {
   dynamic::YoloDetector detector(o.params);
   io::createOutputFolder(o.out);
   for (const auto& path : o.images) {
-    const cv::Mat img = cv::imread(path, cv::IMREAD_COLOR);
+    cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
     if (img.empty()) throw InputError(fmt::format("cannot read image '{}'", path));
+    // IMREAD_COLOR would quietly scale a 16-bit image (a depth image given by mistake) to 8 bits.
+    if (img.depth() != CV_8U) {
+      throw InputError(fmt::format("'{}' is not an 8-bit image (a depth image?); detect needs colour or grey", path));
+    }
+    img = cv::imread(path, cv::IMREAD_COLOR);
     const auto t0 = std::chrono::steady_clock::now();
     const auto dets = detector.detect(img);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
