@@ -136,6 +136,17 @@ TEST(ConfigFile, InvalidValuesAreClearErrors) {
   EXPECT_THROW(io::loadConfig("/nonexistent.yaml"), InputError);
 }
 
+// yaml-cpp returns the first of two equal keys: a value appended to override one above (the usual
+// way to try a setting) would be ignored. Both a key and a section written twice are refused.
+TEST(ConfigFile, AKeyOrSectionSetTwiceIsAnErrorNotTheFirstValueSilently) {
+  const std::string twice = std::string(kMinimal) + "dynamic:\n  occlusion_threshold: 0.4\n  max_age: 3\n"
+                                                    "  occlusion_threshold: 0.2\n";
+  EXPECT_EQ(errorOf(twice), "cfg.yaml: 'dynamic.occlusion_threshold' is set twice (lines 3 and 5)");
+  EXPECT_EQ(errorOf(std::string(kMinimal) + "orb: {features: 500}\norb: {levels: 4}\n"),
+            "cfg.yaml: 'orb' is set twice (lines 2 and 3)");
+  EXPECT_EQ(errorOf(std::string(kMinimal) + "dynamic:\n  occlusion_threshold: 0.2\n"), "");
+}
+
 // Found by fuzz_Config: a YAML complex key ("? ...") made yaml-cpp throw past the InputError net.
 TEST(ConfigFile, NonScalarKeysAndNonFiniteValuesAreClearErrors) {
   EXPECT_NE(errorOf("camera: {width: 640, height: 480, fx: 500, fy: 500, cx: 320, cy: 240, ? [a]: 1}")

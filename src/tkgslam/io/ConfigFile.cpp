@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <type_traits>
 #include <set>
 #include <sstream>
@@ -34,6 +35,20 @@ bool isFinite(const T& value) {
   return true;
 }
 
+// yaml-cpp keeps both entries of a key written twice and lookups return the first, so a value
+// appended to the end of a config to override one above would be ignored without a word.
+void checkNoDuplicateKeys(const YAML::Node& map, const std::string& source, const std::string& prefix,
+                          const std::string& where) {
+  std::map<std::string, int> line_of;
+  for (const auto& kv : map) {
+    const auto key = keyName(kv.first, source, where);
+    const int line = kv.first.Mark().line + 1;
+    if (const auto [it, fresh] = line_of.emplace(key, line); !fresh) {
+      throw InputError(fmt::format("{}: '{}{}' is set twice (lines {} and {})", source, prefix, key, it->second, line));
+    }
+  }
+}
+
 // Reads one mapping section, remembering which keys were used so leftovers can be reported.
 class Section {
  public:
@@ -47,6 +62,7 @@ class Section {
     node_.reset(found);
     present_ = true;
     if (!node_.IsMap()) throw InputError(fmt::format("{}: section '{}' must be a mapping", source_, name_));
+    checkNoDuplicateKeys(node_, source_, name_ + ".", "section '" + name_ + "'");
   }
 
   template <typename T>
@@ -97,6 +113,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
     throw InputError(fmt::format("{}: not valid YAML (line {}): {}", source, e.mark.line + 1, e.msg));
   }
   if (!root.IsMap()) throw InputError(fmt::format("{}: expected a YAML mapping at top level", source));
+  checkNoDuplicateKeys(root, source, "", "the top level");
   static const std::set<std::string> kSections = {"camera", "depth", "orb", "tracking", "mapping", "loop", "dynamic", "system"};
   for (const auto& kv : root) {
     const auto key = keyName(kv.first, source, "the top level");
