@@ -10,6 +10,7 @@
 #include "Commands.h"
 #include "tkgslam/common/Error.h"
 #include "tkgslam/dynamic/YoloDetector.h"
+#include "tkgslam/io/ColourImage.h"
 #include "tkgslam/io/OutputFolder.h"
 
 namespace tkgslam::app {
@@ -26,13 +27,7 @@ int runDetect(DetectOptions o) {
   dynamic::YoloDetector detector(o.params);
   io::createOutputFolder(o.out);
   for (const auto& path : o.images) {
-    cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
-    if (img.empty()) throw InputError(fmt::format("cannot read image '{}'", path));
-    // IMREAD_COLOR would quietly scale a 16-bit image (a depth image given by mistake) to 8 bits.
-    if (img.depth() != CV_8U) {
-      throw InputError(fmt::format("'{}' is not an 8-bit image (a depth image?); detect needs colour or grey", path));
-    }
-    img = cv::imread(path, cv::IMREAD_COLOR);
+    const cv::Mat img = io::readColourImage(path);
     const auto t0 = std::chrono::steady_clock::now();
     const auto dets = detector.detect(img);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -9,6 +9,7 @@
 
 #include "tkgslam/common/Error.h"
 #include "tkgslam/eval/Association.h"
+#include "tkgslam/io/ColourImage.h"
 #include "tkgslam/io/TextParsing.h"
 
 namespace fs = std::filesystem;
@@ -96,7 +97,7 @@ TumDataset::TumDataset(const std::string& directory, TumDatasetOptions options)
     // A camera config for another sensor fails every frame: say so once, here, rather than skipping
     // the whole sequence frame by frame. (An unreadable first image is left to load().)
     const cv::Mat first = cv::imread(entries_.front().rgb_path, cv::IMREAD_UNCHANGED);
-    if (!first.empty() && (first.cols != options_.expected_width || first.rows != options_.expected_height)) {
+    if (!first.empty() && !fitsCamera(first.size())) {
       throw InputError(fmt::format("the images of '{}' are {}x{} but the camera config says {}x{}: a config "
                                    "for another camera?",
                                    directory, first.cols, first.rows, options_.expected_width,
@@ -106,6 +107,11 @@ TumDataset::TumDataset(const std::string& directory, TumDatasetOptions options)
   has_masks_ = fs::is_directory(dir / "masks");
   const double span = entries_.back().rgb_timestamp - entries_.front().rgb_timestamp;
   loop_period_ = span + (entries_.size() > 1 ? span / double(entries_.size() - 1) : 1.0);
+}
+
+bool TumDataset::fitsCamera(const cv::Size& image) const {
+  return options_.expected_width <= 0 ||
+         (image.width == options_.expected_width && image.height == options_.expected_height);
 }
 
 double TumDataset::timestamp(int i) const {
@@ -118,21 +124,8 @@ RgbdImages TumDataset::load(int i) const {
   const RgbdEntry& e = entry(i);
   RgbdImages out;
   out.timestamp = timestamp(i);
-  cv::Mat colour = cv::imread(e.rgb_path, cv::IMREAD_UNCHANGED);
-  if (colour.empty()) throw InputError(fmt::format("cannot read RGB image '{}'", e.rgb_path));
-  if (colour.depth() != CV_8U) {
-    throw InputError(fmt::format("RGB image '{}' is not 8-bit", e.rgb_path));
-  }
-  if (colour.channels() == 1) {
-    out.gray = colour;
-    cv::cvtColor(colour, out.bgr, cv::COLOR_GRAY2BGR);
-  } else if (colour.channels() == 3 || colour.channels() == 4) {
-    if (colour.channels() == 4) cv::cvtColor(colour, colour, cv::COLOR_BGRA2BGR);
-    out.bgr = colour;
-    cv::cvtColor(colour, out.gray, cv::COLOR_BGR2GRAY);
-  } else {
-    throw InputError(fmt::format("RGB image '{}' has {} channels", e.rgb_path, colour.channels()));
-  }
+  out.bgr = readColourImage(e.rgb_path, "RGB image");
+  cv::cvtColor(out.bgr, out.gray, cv::COLOR_BGR2GRAY);
   cv::Mat raw = cv::imread(e.depth_path, cv::IMREAD_UNCHANGED);
   if (raw.empty()) throw InputError(fmt::format("cannot read depth image '{}'", e.depth_path));
   if (raw.channels() != 1 || (raw.type() != CV_16UC1 && raw.type() != CV_32FC1)) {
@@ -140,20 +133,19 @@ RgbdImages TumDataset::load(int i) const {
                                  "metres); got {} channel(s) of depth type {}",
                                  e.depth_path, raw.channels(), raw.depth()));
   }
-  if (raw.size() != colour.size()) {
+  if (raw.size() != out.bgr.size()) {
     throw InputError(fmt::format("depth image '{}' is {}x{} but the RGB image is {}x{}", e.depth_path,
-                                 raw.cols, raw.rows, colour.cols, colour.rows));
+                                 raw.cols, raw.rows, out.bgr.cols, out.bgr.rows));
   }
-  if (options_.expected_width > 0 &&
-      (colour.cols != options_.expected_width || colour.rows != options_.expected_height)) {
+  if (!fitsCamera(out.bgr.size())) {
     throw InputError(fmt::format("image '{}' is {}x{} but the camera config says {}x{}", e.rgb_path,
-                                 colour.cols, colour.rows, options_.expected_width,
+                                 out.bgr.cols, out.bgr.rows, options_.expected_width,
                                  options_.expected_height));
   }
   if (has_masks_) {
     const auto mask_path = fs::path(directory_) / "masks" / (fs::path(e.rgb_path).stem().string() + ".png");
     out.truth_mask = cv::imread(mask_path.string(), cv::IMREAD_GRAYSCALE);
-    if (out.truth_mask.size() != colour.size()) out.truth_mask.release();
+    if (out.truth_mask.size() != out.bgr.size()) out.truth_mask.release();
   }
   if (raw.type() == CV_16UC1) {
     raw.convertTo(out.depth_m, CV_32F, 1.0 / options_.depth_factor);

@@ -72,6 +72,9 @@ class TumDataset {
   std::optional<std::string> groundTruthPath() const;
 
  private:
+  /// The image size the camera config expects (any size when none is set).
+  bool fitsCamera(const cv::Size& image) const;
+
   std::string directory_;
   TumDatasetOptions options_;
   std::vector<RgbdEntry> entries_;

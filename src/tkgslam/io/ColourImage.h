@@ -1,0 +1,14 @@
+#pragma once
+// Reading a colour (or grey) image the way every command expects it: 8-bit BGR.
+#include <string>
+
+#include <opencv2/core.hpp>
+
+namespace tkgslam::io {
+
+/// Reads `path` as 8-bit BGR (grey and BGRA converted). Throws InputError naming `what` and the path
+/// when it cannot be read, is not 8-bit (a 16-bit depth image given by mistake would otherwise be
+/// scaled down quietly) or has another channel count.
+cv::Mat readColourImage(const std::string& path, const std::string& what = "image");
+
+}  // namespace tkgslam::io
