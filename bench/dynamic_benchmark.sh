@@ -17,6 +17,8 @@ OUT=${1:-"$ROOT/out/dynamic_benchmark"}
 FRAMES=${FRAMES:-300}
 MODES=${MODES:-"orb T TK TG TKG TKGp TKGa TKGl TKGt"}   # TKGp: the paper's TKG; TKGa/l/t: asynchronous detector (see run_one)
 CFG="$ROOT/configs/tum_fr1.yaml"
+# shellcheck source=bench/modes.sh
+source "$ROOT/bench/modes.sh"
 [ -x "$BIN" ] || { echo "build first: scripts/build.sh" >&2; exit 1; }
 [ -d "$SEQ" ] || { echo "sequence $SEQ not found" >&2; exit 1; }
 mkdir -p "$OUT"
@@ -36,8 +38,11 @@ for c in "${COMPOSITES[@]}"; do
   [[ " $SEEDED " == *" $name "* ]] || continue
   for seed in ${SEEDS:-}; do COMPOSITES+=("${name}_s$seed|${opts% --seed *} --seed $seed"); done
 done
+ONLY=${ONLY:-"static ${COMPOSITES[*]%%|*}"}
+selected() { [[ " $ONLY " == *" $1 "* ]]; }
 for c in "${COMPOSITES[@]}"; do
   name=${c%%|*}; opts=${c#*|}
+  selected "$name" || continue  # only the composites that will be run
   if [ ! -f "$OUT/seq_$name/rgb.txt" ]; then
     echo "== building composite '$name' ($FRAMES frames)"
     # shellcheck disable=SC2086
@@ -46,25 +51,14 @@ for c in "${COMPOSITES[@]}"; do
 done
 
 run_one() {  # sequence-name dataset-dir mode
-  local name=$1 dir=$2 mode=$3 res="$OUT/runs/$1/$3" flags=(--mode "$3")
-  # TKGp: TKG as the paper has it, without the geometry check outside the boxes.
-  [ "$mode" = TKGp ] && flags=(--mode TKG --unboxed-check off)
-  # TKGa: YOLO on every 8th frame, each result used 8 frames later (tracking never waits for it),
-  # OpenCV on one thread so the detector keeps to one core.
-  [ "$mode" = TKGa ] && flags=(--mode TKG --detect-every 8 --detector-latency 8 --opencv-threads 1)
-  # TKGl: the same, frames held back until the next detection (boxes interpolated, poses 15 frames late).
-  [ "$mode" = TKGl ] && flags=(--mode TKG --detect-every 8 --detector-latency 8 --opencv-threads 1 --lookahead)
-  # TKGt: lookahead with tiled runs: every 2nd frame detected, 4 frames (2x2, half size) per run,
-  # one run per 8 frames as above (poses 15 frames late).
-  [ "$mode" = TKGt ] && flags=(--mode TKG --detect-every 2 --detector-tiles 4 --detector-latency 8 --opencv-threads 1 --lookahead)
+  local name=$1 dir=$2 mode=$3 res="$OUT/runs/$1/$3"
+  mode_flags "$mode" || { echo "unknown mode '$mode' (modes: orb T TK TG TKG TKGp TKGa TKGl TKGt)" >&2; exit 2; }
   mkdir -p "$res"
   echo "== $name / $mode"
-  "$BIN" run -q --deterministic -c "$CFG" -d "$dir" -o "$res" "${flags[@]}" --max-frames "$FRAMES" > "$res/run.log" 2>&1
+  "$BIN" run -q --deterministic -c "$CFG" -d "$dir" -o "$res" "${MODE_FLAGS[@]}" --max-frames "$FRAMES" > "$res/run.log" 2>&1
   "$BIN" eval --json --frames "$dir" "$dir/groundtruth.txt" "$res/trajectory.txt" > "$res/eval.json" 2> "$res/eval.err" ||
     echo '{}' > "$res/eval.json"
 }
-ONLY=${ONLY:-"static ${COMPOSITES[*]%%|*}"}
-selected() { [[ " $ONLY " == *" $1 "* ]]; }
 if selected static; then for mode in $MODES; do run_one static "$SEQ" "$mode"; done; fi
 for c in "${COMPOSITES[@]}"; do
   name=${c%%|*}

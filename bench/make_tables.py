@@ -42,7 +42,7 @@ def table(title, value):
 
 
 def stat(ev, key, field):
-    return ev.get(key, {}).get(field)
+    return (ev.get(key) or {}).get(field)  # RPE is null when the run is shorter than its delta
 
 
 def tracked(ev):

@@ -1,0 +1,19 @@
+# The benchmark modes as `tkgslam run` flags; sourced by bench/dynamic_benchmark.sh and
+# bench/tum_benchmark.sh so both mean the same by a mode's name.
+#   mode_flags MODE   -> sets the array MODE_FLAGS (non-zero status for an unknown mode)
+mode_flags() {
+  case "$1" in
+    orb | T | TK | TG | TKG) MODE_FLAGS=(--mode "$1") ;;
+    # TKGp: TKG as the paper has it, without the geometry check outside the boxes.
+    TKGp) MODE_FLAGS=(--mode TKG --unboxed-check off) ;;
+    # TKGa: YOLO on every 8th frame, each result used 8 frames later (tracking never waits for it),
+    # OpenCV on one thread so the detector keeps to one core.
+    TKGa) MODE_FLAGS=(--mode TKG --detect-every 8 --detector-latency 8 --opencv-threads 1) ;;
+    # TKGl: the same, frames held back until the next detection (boxes interpolated, poses 15 frames late).
+    TKGl) MODE_FLAGS=(--mode TKG --detect-every 8 --detector-latency 8 --opencv-threads 1 --lookahead) ;;
+    # TKGt: lookahead with tiled runs: every 2nd frame detected, 4 frames (2x2, half size) per run,
+    # one run per 8 frames as above (poses 15 frames late).
+    TKGt) MODE_FLAGS=(--mode TKG --detect-every 2 --detector-tiles 4 --detector-latency 8 --opencv-threads 1 --lookahead) ;;
+    *) return 1 ;;
+  esac
+}
