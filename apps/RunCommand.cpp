@@ -74,6 +74,16 @@ void writeDynamicDebug(const std::string& path, const std::vector<DynamicFrameIn
   }
 }
 
+// The configuration the run used - the file with the command line's options applied, every key,
+// the model path absolute - so that `tkgslam run -c` on it repeats the run from anywhere.
+void writeUsedConfig(const std::filesystem::path& path, SlamConfig config) {
+  auto& model = config.dynamic.detector.model;
+  if (!model.empty()) model = std::filesystem::absolute(model).lexically_normal().string();
+  writeText(path, fmt::format("# The configuration of this run: {} with the command line's options applied.\n",
+                              std::filesystem::absolute(config.source).lexically_normal().string()) +
+                      io::configToYaml(config));
+}
+
 int runSlam(const RunOptions& o) {
   SlamConfig config = io::loadConfig(o.config);
   if (o.deterministic) config.deterministic = true;
@@ -193,7 +203,7 @@ int runSlam(const RunOptions& o) {
   writeText(out / "timing.json", slam.timing().toJson() + "\n");
   if (!o.debug_dynamic.empty()) writeDynamicDebug(o.debug_dynamic, slam.dynamicInfo());
   if (config.dynamic.mode != DynamicMode::Orb) writeDynamicDebug((out / "dynamic.jsonl").string(), slam.dynamicInfo());
-  std::filesystem::copy_file(o.config, out / "config_used.yaml", std::filesystem::copy_options::overwrite_existing);
+  writeUsedConfig(out / "config_used.yaml", config);
   if (const auto& c = slam.classification(); c.frames > 0) {
     writeText(out / "dynamic_eval.json",
               fmt::format("{{\"frames\": {}, \"true_positive\": {}, \"false_positive\": {}, \"false_negative\": {}, "

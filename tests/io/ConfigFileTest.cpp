@@ -30,6 +30,37 @@ TEST(ConfigFile, BundledConfigsLoad) {
   EXPECT_DOUBLE_EQ(fr1.depth.factor, 5000);
 }
 
+TEST(ConfigFile, WrittenOutItReadsBackToTheSameValuesBitForBit) {
+  for (const char* name : {"tum_fr1.yaml", "tum_fr2.yaml", "tum_fr3.yaml"}) {
+    auto c = io::loadConfig((test::sourceDir() / "configs" / name).string());
+    // Values the shortest decimal form must keep exact, and non-defaults of every kind.
+    c.tracking.max_jump_m = 0.1 + 0.2;  // 0.30000000000000004
+    c.dynamic.geometry.occlusion_threshold = 1.0 / 3.0;
+    c.dynamic.mode = DynamicMode::TG;
+    c.dynamic.detector.classes = {0, 16};
+    c.dynamic.box_flow = "off";
+    c.mapping.cull_keyframes = false;
+    c.seed = 18446744073709551615ull;
+    const std::string yaml = io::configToYaml(c);
+    const auto back = io::parseConfig(yaml, c.source);
+    EXPECT_EQ(io::configToYaml(back), yaml) << name;
+    EXPECT_EQ(back.tracking.max_jump_m, 0.1 + 0.2) << name;
+    EXPECT_EQ(back.dynamic.geometry.occlusion_threshold, 1.0 / 3.0) << name;
+    EXPECT_EQ(back.camera.distortion, c.camera.distortion) << name;
+    EXPECT_EQ(back.camera.fx, c.camera.fx) << name;
+    EXPECT_EQ(back.dynamic.mode, DynamicMode::TG) << name;
+    EXPECT_EQ(back.dynamic.detector.classes, (std::vector<int>{0, 16})) << name;
+    EXPECT_EQ(back.dynamic.box_flow, "off") << name;
+    EXPECT_FALSE(back.mapping.cull_keyframes) << name;
+    EXPECT_EQ(back.seed, c.seed) << name;
+    EXPECT_EQ(back.dynamic.detector.model, c.dynamic.detector.model) << name;  // absolute after loadConfig
+    // Every section, each once.
+    for (const char* section : {"camera:", "depth:", "orb:", "tracking:", "mapping:", "loop:", "dynamic:", "system:"}) {
+      EXPECT_NE(("\n" + yaml).find(std::string("\n") + section + "\n"), std::string::npos) << section;
+    }
+  }
+}
+
 TEST(ConfigFile, MinimalConfigGetsDefaults) {
   const auto c = io::parseConfig(kMinimal, "x");
   EXPECT_DOUBLE_EQ(c.depth.factor, 5000);

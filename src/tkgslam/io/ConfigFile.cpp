@@ -1,5 +1,7 @@
 #include "tkgslam/io/ConfigFile.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -7,6 +9,7 @@
 #include <type_traits>
 #include <set>
 #include <sstream>
+#include <vector>
 
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
@@ -84,6 +87,10 @@ class Section {
     value = std::move(parsed);
   }
 
+  void require(bool ok, const std::string& what) const {
+    if (!ok) throw InputError(fmt::format("{}: {}", source_, what));
+  }
+
   void checkNoUnknownKeys() const {
     if (!present_) return;
     for (const auto& kv : node_) {
@@ -103,6 +110,156 @@ void require(bool ok, const std::string& source, const std::string& what) {
   if (!ok) throw InputError(fmt::format("{}: {}", source, what));
 }
 
+constexpr bool kRequired = true;
+
+// Every key of a config file, once, in the order it is written: parseConfig reads them, configToYaml
+// writes them, so a key added here is both read and recorded in each run's config_used.yaml.
+// `key(section, name, field, required)`; Config is SlamConfig or const SlamConfig.
+template <typename Config, typename Visit>
+void forEachKey(Config& c, Visit&& key) {
+  key("camera", "width", c.camera.width, kRequired);
+  key("camera", "height", c.camera.height, kRequired);
+  key("camera", "fx", c.camera.fx, kRequired);
+  key("camera", "fy", c.camera.fy, kRequired);
+  key("camera", "cx", c.camera.cx, kRequired);
+  key("camera", "cy", c.camera.cy, kRequired);
+  key("camera", "distortion", c.camera.distortion, false);
+  key("camera", "fps", c.camera.fps, false);
+  key("depth", "factor", c.depth.factor, false);
+  key("depth", "baseline_fx", c.depth.baseline_fx, false);
+  key("depth", "close_threshold", c.depth.close_threshold, false);
+  key("depth", "max_depth", c.depth.max_depth, false);
+  key("orb", "features", c.orb.features, false);
+  key("orb", "scale_factor", c.orb.scale_factor, false);
+  key("orb", "levels", c.orb.levels, false);
+  key("orb", "fast_threshold", c.orb.fast_threshold, false);
+  key("orb", "fast_min_threshold", c.orb.fast_min_threshold, false);
+  auto& tr = c.tracking;
+  key("tracking", "min_init_features", tr.min_init_features, false);
+  key("tracking", "min_tracked_inliers", tr.min_tracked_inliers, false);
+  key("tracking", "max_frames_between_keyframes", tr.max_frames_between_keyframes, false);
+  key("tracking", "relocalization_attempts", tr.relocalization_attempts, false);
+  key("tracking", "max_predicted_frames", tr.max_predicted_frames, false);
+  key("tracking", "reanchor_segments", tr.reanchor_segments, false);
+  key("tracking", "blur_ratio", tr.blur_ratio, false);
+  key("tracking", "max_jump_deg", tr.max_jump_deg, false);
+  key("tracking", "max_jump_m", tr.max_jump_m, false);
+  key("tracking", "covered_ratio", tr.covered_ratio, false);
+  key("tracking", "min_rescued_inliers", tr.min_rescued_inliers, false);
+  key("mapping", "local_ba_iterations", c.mapping.local_ba_iterations, false);
+  key("mapping", "covisible_keyframes", c.mapping.covisible_keyframes, false);
+  key("mapping", "keyframe_redundancy", c.mapping.keyframe_redundancy, false);
+  key("mapping", "max_keyframe_shift_m", c.mapping.max_keyframe_shift_m, false);
+  key("mapping", "max_keyframe_shift_deg", c.mapping.max_keyframe_shift_deg, false);
+  key("mapping", "cull_keyframes", c.mapping.cull_keyframes, false);
+  key("loop", "enabled", c.loop.enabled, false);
+  key("loop", "confirm", c.loop.confirm, false);
+  key("loop", "min_inliers", c.loop.min_inliers, false);
+  key("loop", "min_keyframe_gap", c.loop.min_keyframe_gap, false);
+  key("loop", "candidates", c.loop.candidates, false);
+  key("loop", "min_correction_m", c.loop.min_correction_m, false);
+  key("loop", "min_correction_deg", c.loop.min_correction_deg, false);
+  key("loop", "global_ba_iterations", c.loop.global_ba_iterations, false);
+  auto& dy = c.dynamic;
+  auto& d = dy.detector;
+  key("dynamic", "mode", dy.mode, false);
+  key("dynamic", "model", d.model, false);
+  key("dynamic", "input_size", d.input_size, false);
+  key("dynamic", "confidence", d.confidence, false);
+  key("dynamic", "person_confidence", d.person_confidence, false);
+  key("dynamic", "nms", d.nms, false);
+  key("dynamic", "classes", d.classes, false);
+  key("dynamic", "detect_every", dy.detect_every, false);
+  key("dynamic", "detector_latency", dy.detector_latency, false);
+  key("dynamic", "box_margin", dy.box_margin, false);
+  key("dynamic", "object_mask", dy.object_mask, false);
+  key("dynamic", "object_behind", dy.object.behind, false);
+  key("dynamic", "object_behind_per_size", dy.object.behind_per_size, false);
+  key("dynamic", "object_radius", dy.object.radius, false);
+  key("dynamic", "object_colour", dy.object.colour, false);
+  key("dynamic", "box_flow", dy.box_flow, false);
+  key("dynamic", "lookahead", dy.lookahead, false);
+  key("dynamic", "detector_tiles", dy.detector_tiles, false);
+  key("dynamic", "refill_ratio", dy.refill_ratio, false);
+  key("dynamic", "late_culling", dy.late_culling, false);
+  auto& t = dy.tracker;
+  key("dynamic", "kalman_q", t.kalman.q, false);
+  key("dynamic", "kalman_r", t.kalman.r, false);
+  key("dynamic", "iou_gate", t.iou_gate, false);
+  key("dynamic", "centre_gate", t.centre_gate, false);
+  key("dynamic", "centre_gate_max", t.centre_gate_max, false);
+  key("dynamic", "max_age", t.max_age, false);
+  auto& g = dy.geometry;
+  key("dynamic", "ratio_threshold", g.ratio_threshold, false);
+  key("dynamic", "reference_keyframes", g.reference_keyframes, false);
+  key("dynamic", "reference_max_depth", g.reference_max_depth, false);
+  key("dynamic", "current_max_depth", g.current_max_depth, false);
+  key("dynamic", "max_parallax_deg", g.max_parallax_deg, false);
+  key("dynamic", "occlusion_threshold", g.occlusion_threshold, false);
+  key("dynamic", "patch_radius", g.patch_radius, false);
+  key("dynamic", "max_patch_std", g.max_patch_std, false);
+  key("dynamic", "region_depth_step", g.region_depth_step, false);
+  key("dynamic", "occluder_radius", g.occluder_radius, false);
+  key("dynamic", "occluder_depth", g.occluder_depth, false);
+  key("dynamic", "unboxed_check", g.unboxed_check, false);
+  key("dynamic", "unboxed_min_evidence", g.unboxed_min_evidence, false);
+  key("dynamic", "unboxed_depth_range", g.unboxed_depth_range, false);
+  key("dynamic", "unboxed_min_hidden", g.unboxed_min_hidden, false);
+  key("system", "deterministic", c.deterministic, false);
+  key("system", "seed", c.seed, false);
+  key("system", "opencv_threads", c.opencv_threads, false);
+}
+
+// Reading one key: most types as they are; the distortion as a list of 4 or 5, the mode by name.
+template <typename T>
+void readKey(Section& s, const std::string& key, T& value, bool required) {
+  s.get(key, value, required);
+}
+
+void readKey(Section& s, const std::string& key, std::array<double, 5>& value, bool required) {
+  std::vector<double> list;
+  s.get(key, list, required);
+  if (list.empty()) return;
+  s.require(list.size() == 4 || list.size() == 5, "camera.distortion must list 4 or 5 coefficients: k1 k2 p1 p2 [k3]");
+  value.fill(0.0);
+  std::copy(list.begin(), list.end(), value.begin());
+}
+
+void readKey(Section& s, const std::string& key, DynamicMode& value, bool required) {
+  std::string name = toString(value);
+  s.get(key, name, required);
+  try {
+    value = parseDynamicMode(name);
+  } catch (const InputError& e) {
+    s.require(false, fmt::format("dynamic.mode: {}", e.what()));
+  }
+}
+
+// Writing one key: doubles in their shortest exact form, so the file reads back bit-identical.
+template <typename T>
+void writeValue(YAML::Emitter& out, const T& value) {
+  if constexpr (std::is_floating_point_v<T>) {
+    out << fmt::format("{}", value);
+  } else {
+    out << value;
+  }
+}
+
+template <typename T, size_t N>
+void writeValue(YAML::Emitter& out, const std::array<T, N>& values) {
+  out << YAML::Flow << YAML::BeginSeq;
+  for (const auto& v : values) writeValue(out, v);
+  out << YAML::EndSeq;
+}
+
+void writeValue(YAML::Emitter& out, const std::vector<int>& values) {
+  out << YAML::Flow << YAML::BeginSeq;
+  for (int v : values) out << v;
+  out << YAML::EndSeq;
+}
+
+void writeValue(YAML::Emitter& out, DynamicMode mode) { out << toString(mode); }
+
 }  // namespace
 
 SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) {
@@ -114,220 +271,120 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
   }
   if (!root.IsMap()) throw InputError(fmt::format("{}: expected a YAML mapping at top level", source));
   checkNoDuplicateKeys(root, source, "", "the top level");
-  static const std::set<std::string> kSections = {"camera", "depth", "orb", "tracking", "mapping", "loop", "dynamic", "system"};
+  static const std::vector<std::string> kSections = {"camera", "depth", "orb", "tracking",
+                                                      "mapping", "loop", "dynamic", "system"};
   for (const auto& kv : root) {
     const auto key = keyName(kv.first, source, "the top level");
-    if (!kSections.count(key)) throw InputError(fmt::format("{}: unknown section '{}'", source, key));
+    if (std::find(kSections.begin(), kSections.end(), key) == kSections.end()) {
+      throw InputError(fmt::format("{}: unknown section '{}'", source, key));
+    }
   }
+  std::map<std::string, Section> sections;
+  for (const auto& name : kSections) sections.try_emplace(name, root, name, source, name == "camera");
 
   SlamConfig c;
   c.source = source;
-  {
-    Section s(root, "camera", source, true);
-    s.get("width", c.camera.width, true);
-    s.get("height", c.camera.height, true);
-    s.get("fx", c.camera.fx, true);
-    s.get("fy", c.camera.fy, true);
-    s.get("cx", c.camera.cx, true);
-    s.get("cy", c.camera.cy, true);
-    std::vector<double> dist;
-    s.get("distortion", dist);
-    require(dist.empty() || dist.size() == 4 || dist.size() == 5, source,
-            "camera.distortion must list 4 or 5 coefficients: k1 k2 p1 p2 [k3]");
-    for (size_t i = 0; i < dist.size(); ++i) c.camera.distortion[i] = dist[i];
-    s.get("fps", c.camera.fps);
-    s.checkNoUnknownKeys();
-    try {
-      camera::PinholeCamera check(c.camera);
-    } catch (const InputError& e) {
-      throw InputError(fmt::format("{}: {}", source, e.what()));
-    }
+  forEachKey(c, [&](const char* section, const char* key, auto& field, bool required) {
+    readKey(sections.at(section), key, field, required);
+  });
+  for (const auto& [name, s] : sections) s.checkNoUnknownKeys();
+
+  try {
+    camera::PinholeCamera check(c.camera);
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}", source, e.what()));
   }
-  {
-    Section s(root, "depth", source, false);
-    s.get("factor", c.depth.factor);
-    s.get("baseline_fx", c.depth.baseline_fx);
-    s.get("close_threshold", c.depth.close_threshold);
-    s.get("max_depth", c.depth.max_depth);
-    s.checkNoUnknownKeys();
-    require(c.depth.factor > 0, source, "depth.factor must be > 0");
-    require(c.depth.baseline_fx > 0, source, "depth.baseline_fx must be > 0");
-    require(c.depth.close_threshold > 0, source, "depth.close_threshold must be > 0");
-    require(c.depth.max_depth > 0, source, "depth.max_depth must be > 0");
+  require(c.depth.factor > 0, source, "depth.factor must be > 0");
+  require(c.depth.baseline_fx > 0, source, "depth.baseline_fx must be > 0");
+  require(c.depth.close_threshold > 0, source, "depth.close_threshold must be > 0");
+  require(c.depth.max_depth > 0, source, "depth.max_depth must be > 0");
+  try {
+    feature::OrbExtractor check(c.orb);
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}", source, e.what()));
   }
-  {
-    Section s(root, "orb", source, false);
-    s.get("features", c.orb.features);
-    s.get("scale_factor", c.orb.scale_factor);
-    s.get("levels", c.orb.levels);
-    s.get("fast_threshold", c.orb.fast_threshold);
-    s.get("fast_min_threshold", c.orb.fast_min_threshold);
-    s.checkNoUnknownKeys();
-    try {
-      feature::OrbExtractor check(c.orb);
-    } catch (const InputError& e) {
-      throw InputError(fmt::format("{}: {}", source, e.what()));
-    }
+  require(c.tracking.min_init_features >= 10, source, "tracking.min_init_features must be >= 10");
+  require(c.tracking.min_tracked_inliers >= 6, source, "tracking.min_tracked_inliers must be >= 6");
+  require(c.tracking.max_frames_between_keyframes >= 0, source,
+          "tracking.max_frames_between_keyframes must be >= 0");
+  require(c.tracking.relocalization_attempts >= 0, source, "tracking.relocalization_attempts must be >= 0");
+  require(c.tracking.max_predicted_frames >= 0 && c.tracking.max_predicted_frames <= 30, source,
+          "tracking.max_predicted_frames must be in [0, 30]");
+  require(c.tracking.blur_ratio >= 0 && c.tracking.blur_ratio < 1, source, "tracking.blur_ratio must be in [0, 1)");
+  require(c.tracking.covered_ratio > 0, source, "tracking.covered_ratio must be > 0 (> 1 = off)");
+  require(c.tracking.min_rescued_inliers >= 0, source, "tracking.min_rescued_inliers must be >= 0 (0 = off)");
+  require(c.mapping.local_ba_iterations >= 0, source, "mapping.local_ba_iterations must be >= 0");
+  require(c.mapping.covisible_keyframes >= 1, source, "mapping.covisible_keyframes must be >= 1");
+  require(c.mapping.keyframe_redundancy > 0 && c.mapping.keyframe_redundancy <= 1, source,
+          "mapping.keyframe_redundancy must be in (0, 1]");
+  require(c.loop.min_inliers >= 10, source, "loop.min_inliers must be >= 10");
+  require(c.loop.min_keyframe_gap >= 1, source, "loop.min_keyframe_gap must be >= 1");
+  require(c.loop.candidates >= 1, source, "loop.candidates must be >= 1");
+  require(c.loop.min_correction_m >= 0, source, "loop.min_correction_m must be >= 0");
+  require(c.loop.min_correction_deg >= 0, source, "loop.min_correction_deg must be >= 0");
+  require(c.loop.global_ba_iterations >= 0, source, "loop.global_ba_iterations must be >= 0");
+  auto& d = c.dynamic.detector;
+  c.dynamic.object.focal_px = c.camera.fy;  // box sizes (px) to metres
+  const auto& t = c.dynamic.tracker;
+  const auto& g = c.dynamic.geometry;
+  // A relative model path is relative to the config file's folder.
+  if (!d.model.empty() && std::filesystem::path(d.model).is_relative()) {
+    d.model = (std::filesystem::path(source).parent_path() / d.model).lexically_normal().string();
   }
-  {
-    Section s(root, "tracking", source, false);
-    s.get("min_init_features", c.tracking.min_init_features);
-    s.get("min_tracked_inliers", c.tracking.min_tracked_inliers);
-    s.get("max_frames_between_keyframes", c.tracking.max_frames_between_keyframes);
-    s.get("relocalization_attempts", c.tracking.relocalization_attempts);
-    s.get("max_predicted_frames", c.tracking.max_predicted_frames);
-    s.get("reanchor_segments", c.tracking.reanchor_segments);
-    s.get("blur_ratio", c.tracking.blur_ratio);
-    s.get("max_jump_deg", c.tracking.max_jump_deg);
-    s.get("max_jump_m", c.tracking.max_jump_m);
-    s.get("covered_ratio", c.tracking.covered_ratio);
-    s.get("min_rescued_inliers", c.tracking.min_rescued_inliers);
-    s.checkNoUnknownKeys();
-    require(c.tracking.min_init_features >= 10, source, "tracking.min_init_features must be >= 10");
-    require(c.tracking.min_tracked_inliers >= 6, source, "tracking.min_tracked_inliers must be >= 6");
-    require(c.tracking.max_frames_between_keyframes >= 0, source,
-            "tracking.max_frames_between_keyframes must be >= 0");
-    require(c.tracking.relocalization_attempts >= 0, source, "tracking.relocalization_attempts must be >= 0");
-    require(c.tracking.max_predicted_frames >= 0 && c.tracking.max_predicted_frames <= 30, source,
-            "tracking.max_predicted_frames must be in [0, 30]");
-    require(c.tracking.blur_ratio >= 0 && c.tracking.blur_ratio < 1, source, "tracking.blur_ratio must be in [0, 1)");
-    require(c.tracking.covered_ratio > 0, source, "tracking.covered_ratio must be > 0 (> 1 = off)");
-    require(c.tracking.min_rescued_inliers >= 0, source, "tracking.min_rescued_inliers must be >= 0 (0 = off)");
-  }
-  {
-    Section s(root, "mapping", source, false);
-    s.get("local_ba_iterations", c.mapping.local_ba_iterations);
-    s.get("covisible_keyframes", c.mapping.covisible_keyframes);
-    s.get("keyframe_redundancy", c.mapping.keyframe_redundancy);
-    s.get("max_keyframe_shift_m", c.mapping.max_keyframe_shift_m);
-    s.get("max_keyframe_shift_deg", c.mapping.max_keyframe_shift_deg);
-    s.get("cull_keyframes", c.mapping.cull_keyframes);
-    s.checkNoUnknownKeys();
-    require(c.mapping.local_ba_iterations >= 0, source, "mapping.local_ba_iterations must be >= 0");
-    require(c.mapping.covisible_keyframes >= 1, source, "mapping.covisible_keyframes must be >= 1");
-    require(c.mapping.keyframe_redundancy > 0 && c.mapping.keyframe_redundancy <= 1, source,
-            "mapping.keyframe_redundancy must be in (0, 1]");
-  }
-  {
-    Section s(root, "loop", source, false);
-    s.get("enabled", c.loop.enabled);
-    s.get("confirm", c.loop.confirm);
-    s.get("min_inliers", c.loop.min_inliers);
-    s.get("min_keyframe_gap", c.loop.min_keyframe_gap);
-    s.get("candidates", c.loop.candidates);
-    s.get("min_correction_m", c.loop.min_correction_m);
-    s.get("min_correction_deg", c.loop.min_correction_deg);
-    s.get("global_ba_iterations", c.loop.global_ba_iterations);
-    s.checkNoUnknownKeys();
-    require(c.loop.min_inliers >= 10, source, "loop.min_inliers must be >= 10");
-    require(c.loop.min_keyframe_gap >= 1, source, "loop.min_keyframe_gap must be >= 1");
-    require(c.loop.candidates >= 1, source, "loop.candidates must be >= 1");
-    require(c.loop.min_correction_m >= 0, source, "loop.min_correction_m must be >= 0");
-    require(c.loop.min_correction_deg >= 0, source, "loop.min_correction_deg must be >= 0");
-    require(c.loop.global_ba_iterations >= 0, source, "loop.global_ba_iterations must be >= 0");
-  }
-  {
-    Section s(root, "dynamic", source, false);
-    std::string mode = toString(c.dynamic.mode);
-    s.get("mode", mode);
-    try {
-      c.dynamic.mode = parseDynamicMode(mode);
-    } catch (const InputError& e) {
-      throw InputError(fmt::format("{}: dynamic.mode: {}", source, e.what()));
-    }
-    auto& d = c.dynamic.detector;
-    s.get("model", d.model);
-    s.get("input_size", d.input_size);
-    s.get("confidence", d.confidence);
-    s.get("person_confidence", d.person_confidence);
-    s.get("nms", d.nms);
-    s.get("classes", d.classes);
-    s.get("detect_every", c.dynamic.detect_every);
-    s.get("detector_latency", c.dynamic.detector_latency);
-    s.get("box_margin", c.dynamic.box_margin);
-    s.get("object_mask", c.dynamic.object_mask);
-    s.get("object_behind", c.dynamic.object.behind);
-    s.get("object_behind_per_size", c.dynamic.object.behind_per_size);
-    c.dynamic.object.focal_px = c.camera.fy;  // box sizes (px) to metres
-    s.get("object_radius", c.dynamic.object.radius);
-    s.get("object_colour", c.dynamic.object.colour);
-    s.get("box_flow", c.dynamic.box_flow);
-    s.get("lookahead", c.dynamic.lookahead);
-    s.get("detector_tiles", c.dynamic.detector_tiles);
-    s.get("refill_ratio", c.dynamic.refill_ratio);
-    s.get("late_culling", c.dynamic.late_culling);
-    auto& t = c.dynamic.tracker;
-    s.get("kalman_q", t.kalman.q);
-    s.get("kalman_r", t.kalman.r);
-    s.get("iou_gate", t.iou_gate);
-    s.get("centre_gate", t.centre_gate);
-    s.get("centre_gate_max", t.centre_gate_max);
-    s.get("max_age", t.max_age);
-    auto& g = c.dynamic.geometry;
-    s.get("ratio_threshold", g.ratio_threshold);
-    s.get("reference_keyframes", g.reference_keyframes);
-    s.get("reference_max_depth", g.reference_max_depth);
-    s.get("current_max_depth", g.current_max_depth);
-    s.get("max_parallax_deg", g.max_parallax_deg);
-    s.get("occlusion_threshold", g.occlusion_threshold);
-    s.get("patch_radius", g.patch_radius);
-    s.get("max_patch_std", g.max_patch_std);
-    s.get("region_depth_step", g.region_depth_step);
-    s.get("occluder_radius", g.occluder_radius);
-    s.get("occluder_depth", g.occluder_depth);
-    s.get("unboxed_check", g.unboxed_check);
-    s.get("unboxed_min_evidence", g.unboxed_min_evidence);
-    s.get("unboxed_depth_range", g.unboxed_depth_range);
-    s.get("unboxed_min_hidden", g.unboxed_min_hidden);
-    s.checkNoUnknownKeys();
-    // A relative model path is relative to the config file's folder.
-    if (!d.model.empty() && std::filesystem::path(d.model).is_relative()) {
-      d.model = (std::filesystem::path(source).parent_path() / d.model).lexically_normal().string();
-    }
-    require(c.dynamic.box_flow == "auto" || c.dynamic.box_flow == "on" || c.dynamic.box_flow == "off", source,
-            "dynamic.box_flow must be auto, on or off");
-    require(c.dynamic.detect_every >= 1, source, "dynamic.detect_every must be >= 1");
-    require(g.occluder_radius >= 0 && g.occluder_radius <= 64, source, "dynamic.occluder_radius must be in [0, 64] px");
-    require(g.occluder_depth >= 0, source, "dynamic.occluder_depth must be >= 0 (m)");
-    require(g.unboxed_min_evidence >= 1, source, "dynamic.unboxed_min_evidence must be >= 1");
-    require(g.unboxed_depth_range > 0, source, "dynamic.unboxed_depth_range must be > 0");
-    require(g.unboxed_min_hidden >= 0 && g.unboxed_min_hidden <= 1, source,
-            "dynamic.unboxed_min_hidden must be in [0, 1]");
-    require(c.dynamic.box_margin >= 0 && c.dynamic.box_margin <= 0.5, source, "dynamic.box_margin must be in [0, 0.5]");
-    require(c.dynamic.object.behind >= 0, source, "dynamic.object_behind must be >= 0 (m)");
-    require(c.dynamic.object.behind_per_size >= 0, source, "dynamic.object_behind_per_size must be >= 0");
-    require(!c.dynamic.object.colour || c.dynamic.object_mask, source,
-            "dynamic.object_colour needs dynamic.object_mask: true (it refines the object mask)");
-    require(c.dynamic.object.radius >= 0 && c.dynamic.object.radius <= 64, source,
-            "dynamic.object_radius must be in [0, 64] px");
-    require(c.dynamic.refill_ratio >= 0 && c.dynamic.refill_ratio <= 1, source, "dynamic.refill_ratio must be in [0, 1]");
-    require(c.dynamic.detector_tiles >= 1 && c.dynamic.detector_tiles <= 9, source,
-            "dynamic.detector_tiles must be in [1, 9]");
-    require(c.dynamic.detector_tiles == 1 || c.dynamic.lookahead, source,
-            "dynamic.detector_tiles > 1 needs dynamic.lookahead: true (the tiles are frames still to be tracked)");
-    require(c.dynamic.detector_latency >= 0 &&
-                c.dynamic.detector_latency <= c.dynamic.detect_every * c.dynamic.detector_tiles,
-            source, "dynamic.detector_latency must be in [0, detect_every x detector_tiles]");
-    require(t.kalman.q > 0 && t.kalman.r > 0, source, "dynamic.kalman_q and kalman_r must be > 0");
-    require(t.iou_gate >= 0 && t.iou_gate < 1, source, "dynamic.iou_gate must be in [0, 1)");
-    require(t.centre_gate >= 0 && t.centre_gate_max >= 0, source, "dynamic.centre_gate and centre_gate_max must be >= 0");
-    require(t.max_age >= 0, source, "dynamic.max_age must be >= 0");
-    require(g.ratio_threshold >= 0 && g.ratio_threshold <= 1, source, "dynamic.ratio_threshold must be in [0, 1]");
-    require(g.reference_keyframes >= 1, source, "dynamic.reference_keyframes must be >= 1");
-    require(g.occlusion_threshold > 0, source, "dynamic.occlusion_threshold must be > 0");
-    require(g.patch_radius >= 0 && g.patch_radius <= 20, source, "dynamic.patch_radius must be in [0, 20]");
-    require(g.region_depth_step > 0, source, "dynamic.region_depth_step must be > 0");
-    require(g.max_parallax_deg > 0 && g.max_parallax_deg <= 180, source, "dynamic.max_parallax_deg must be in (0, 180]");
-  }
-  {
-    Section s(root, "system", source, false);
-    s.get("deterministic", c.deterministic);
-    s.get("seed", c.seed);
-    s.get("opencv_threads", c.opencv_threads);
-    s.checkNoUnknownKeys();
-    require(c.opencv_threads >= 0, source, "system.opencv_threads must be >= 0");
-  }
+  require(c.dynamic.box_flow == "auto" || c.dynamic.box_flow == "on" || c.dynamic.box_flow == "off", source,
+          "dynamic.box_flow must be auto, on or off");
+  require(c.dynamic.detect_every >= 1, source, "dynamic.detect_every must be >= 1");
+  require(g.occluder_radius >= 0 && g.occluder_radius <= 64, source, "dynamic.occluder_radius must be in [0, 64] px");
+  require(g.occluder_depth >= 0, source, "dynamic.occluder_depth must be >= 0 (m)");
+  require(g.unboxed_min_evidence >= 1, source, "dynamic.unboxed_min_evidence must be >= 1");
+  require(g.unboxed_depth_range > 0, source, "dynamic.unboxed_depth_range must be > 0");
+  require(g.unboxed_min_hidden >= 0 && g.unboxed_min_hidden <= 1, source,
+          "dynamic.unboxed_min_hidden must be in [0, 1]");
+  require(c.dynamic.box_margin >= 0 && c.dynamic.box_margin <= 0.5, source, "dynamic.box_margin must be in [0, 0.5]");
+  require(c.dynamic.object.behind >= 0, source, "dynamic.object_behind must be >= 0 (m)");
+  require(c.dynamic.object.behind_per_size >= 0, source, "dynamic.object_behind_per_size must be >= 0");
+  require(!c.dynamic.object.colour || c.dynamic.object_mask, source,
+          "dynamic.object_colour needs dynamic.object_mask: true (it refines the object mask)");
+  require(c.dynamic.object.radius >= 0 && c.dynamic.object.radius <= 64, source,
+          "dynamic.object_radius must be in [0, 64] px");
+  require(c.dynamic.refill_ratio >= 0 && c.dynamic.refill_ratio <= 1, source, "dynamic.refill_ratio must be in [0, 1]");
+  require(c.dynamic.detector_tiles >= 1 && c.dynamic.detector_tiles <= 9, source,
+          "dynamic.detector_tiles must be in [1, 9]");
+  require(c.dynamic.detector_tiles == 1 || c.dynamic.lookahead, source,
+          "dynamic.detector_tiles > 1 needs dynamic.lookahead: true (the tiles are frames still to be tracked)");
+  require(c.dynamic.detector_latency >= 0 &&
+              c.dynamic.detector_latency <= c.dynamic.detect_every * c.dynamic.detector_tiles,
+          source, "dynamic.detector_latency must be in [0, detect_every x detector_tiles]");
+  require(t.kalman.q > 0 && t.kalman.r > 0, source, "dynamic.kalman_q and kalman_r must be > 0");
+  require(t.iou_gate >= 0 && t.iou_gate < 1, source, "dynamic.iou_gate must be in [0, 1)");
+  require(t.centre_gate >= 0 && t.centre_gate_max >= 0, source, "dynamic.centre_gate and centre_gate_max must be >= 0");
+  require(t.max_age >= 0, source, "dynamic.max_age must be >= 0");
+  require(g.ratio_threshold >= 0 && g.ratio_threshold <= 1, source, "dynamic.ratio_threshold must be in [0, 1]");
+  require(g.reference_keyframes >= 1, source, "dynamic.reference_keyframes must be >= 1");
+  require(g.occlusion_threshold > 0, source, "dynamic.occlusion_threshold must be > 0");
+  require(g.patch_radius >= 0 && g.patch_radius <= 20, source, "dynamic.patch_radius must be in [0, 20]");
+  require(g.region_depth_step > 0, source, "dynamic.region_depth_step must be > 0");
+  require(g.max_parallax_deg > 0 && g.max_parallax_deg <= 180, source, "dynamic.max_parallax_deg must be in (0, 180]");
+  require(c.opencv_threads >= 0, source, "system.opencv_threads must be >= 0");
+
   return c;
+}
+
+std::string configToYaml(const SlamConfig& config) {
+  YAML::Emitter out;
+  out << YAML::BeginMap;
+  std::string open;  // the section being written
+  forEachKey(config, [&](const char* section, const char* key, const auto& value, bool) {
+    if (open != section) {
+      if (!open.empty()) out << YAML::EndMap;
+      out << YAML::Key << section << YAML::Value << YAML::BeginMap;
+      open = section;
+    }
+    out << YAML::Key << key << YAML::Value;
+    writeValue(out, value);
+  });
+  out << YAML::EndMap << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
 }
 
 SlamConfig loadConfig(const std::string& path) {

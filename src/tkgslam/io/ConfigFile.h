@@ -6,7 +6,9 @@
 //   depth:   { factor (raw units per metre), baseline_fx (virtual stereo baseline * fx, m*px),
 //              close_threshold (m), max_depth (m) }
 //   orb:     { features, scale_factor, levels, fast_threshold, fast_min_threshold }
-//   system:  { deterministic, seed }
+//   system:  { deterministic, seed, opencv_threads }
+// and tracking, mapping, loop, dynamic: every key is listed once, in forEachKey (ConfigFile.cpp), and
+// documented in the README's "Camera config format".
 #include <string>
 
 #include "tkgslam/system/SlamConfig.h"
@@ -18,5 +20,9 @@ SlamConfig loadConfig(const std::string& path);
 
 /// Parses a config from YAML text (`source` names it in error messages).
 SlamConfig parseConfig(const std::string& yaml_text, const std::string& source);
+
+/// Every key of `config` as YAML that parseConfig reads back to the same values, bit for bit (the
+/// model path as it is in `config`: parseConfig resolves a relative one against the file's folder).
+std::string configToYaml(const SlamConfig& config);
 
 }  // namespace tkgslam::io
