@@ -7,17 +7,11 @@ import re
 import statistics
 import sys
 
+from run_files import load
+
 out, frames = sys.argv[1], int(sys.argv[2])
 seqs = ["static", "low", "high", "very_high", "high_blur", "high_shake", "extreme"]
 modes = ["orb", "T", "TK", "TG", "TKG", "TKGp", "TKGa", "TKGl", "TKGt"]
-
-
-def load(path):
-    try:
-        with open(path) as f:
-            return json.load(f)
-    except (OSError, ValueError):
-        return None
 
 
 @functools.lru_cache(maxsize=None)  # the tables read the same runs several times

@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """Turns the runs of bench/tum_benchmark.sh (OUT/runs/SEQUENCE/MODE/) into Markdown tables next to the
 numbers the TKG-SLAM paper publishes for the TUM fr3 dynamic sequences (standard library only)."""
-import json
 import os
 import sys
+
+from run_files import load
 
 out = sys.argv[1]
 runs = os.path.join(out, "runs")
@@ -36,14 +37,6 @@ PAPER_RPE = {
     "w/rpy": ((0.0184, 0.0115), (0.0500, 0.0306), (0.0448, 0.0262)),
 }
 PAPER_COLUMNS = ["paper: TKG-SLAM", "paper: CFP-SLAM", "paper: DynaSLAM"]
-
-
-def load(path):
-    try:
-        with open(path) as f:
-            return json.load(f)
-    except (OSError, ValueError):
-        return None
 
 
 seqs = sorted(d for d in os.listdir(runs) if os.path.isdir(os.path.join(runs, d))) if os.path.isdir(runs) else []
