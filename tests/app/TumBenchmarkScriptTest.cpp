@@ -25,12 +25,13 @@ int runScript(const std::string& env, const std::string& args, std::string* outp
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-/// The table row of `sequence` under the heading that starts with `heading`.
+/// The row of `sequence` in the table under the heading that starts with `heading` ("" if none).
 std::string tableRow(const std::string& tables, const std::string& heading, const std::string& sequence) {
   const auto h = tables.find("### " + heading);
   if (h == std::string::npos) return "";
+  const auto end = tables.find("\n### ", h + 4);  // the table ends where the next heading starts
   const auto r = tables.find("| " + sequence + " |", h);
-  return r == std::string::npos ? "" : tables.substr(r, tables.find('\n', r) - r);
+  return r == std::string::npos || r > end ? "" : tables.substr(r, tables.find('\n', r) - r);
 }
 
 TEST(TumBenchmarkScript, RunsEachModeAndTabulatesItBesideThePapersNumbers) {
@@ -60,6 +61,9 @@ TEST(TumBenchmarkScript, RunsEachModeAndTabulatesItBesideThePapersNumbers) {
             std::string::npos) << tables;
   EXPECT_NE(tableRow(tables, "RPE translation", "freiburg3_walking_xyz").find("| 0.0114 / 0.0064 |"), std::string::npos)
       << tables;
+  // The ablation beside the paper's Table 3, for the walking sequences only.
+  EXPECT_NE(tableRow(tables, "Ablation", "freiburg3_walking_xyz").find(" | 0.0129 / 0.0067 |"), std::string::npos) << tables;
+  EXPECT_EQ(tableRow(tables, "Ablation", "freiburg1_xyz"), "") << tables;
   EXPECT_EQ(tableRow(tables, "Tracked frames", "freiburg1_xyz"), "| freiburg1_xyz | 100.0 | 100.0 |") << tables;
   // Time: orb is T by definition; TKG runs YOLO on every frame, so it costs more.
   const std::string time = tableRow(tables, "Mean time per frame", "freiburg1_xyz");
