@@ -52,11 +52,20 @@ inline void fuzzTrajectory(const std::uint8_t* data, std::size_t size) {
   }
 }
 
-/// A YAML config as `tkgslam run -c` reads it.
+/// A YAML config as `tkgslam run -c` reads it; one it accepts must also survive being written out
+/// (config_used.yaml) and read back: the same text again, so the same values.
 inline void fuzzConfig(const std::uint8_t* data, std::size_t size) {
+  SlamConfig config;
   try {
-    (void)io::parseConfig(std::string(reinterpret_cast<const char*>(data), size), "config.yaml");
+    config = io::parseConfig(std::string(reinterpret_cast<const char*>(data), size), "config.yaml");
   } catch (const InputError&) {
+    return;
+  }
+  const std::string written = io::configToYaml(config);
+  try {
+    if (io::configToYaml(io::parseConfig(written, "config.yaml")) != written) __builtin_trap();
+  } catch (const InputError&) {
+    __builtin_trap();  // a config it accepted, written out, must be accepted again
   }
 }
 
