@@ -36,6 +36,7 @@ struct RunOptions {
   std::string box_flow, unboxed_check, object_mask;                  // empty: keep the config's
   bool lookahead = false;
   int detector_tiles = 0;  // 0: keep the config's
+  bool fast = false;       // the detector schedule of bench/modes.sh's TKGt
 };
 
 std::atomic<bool> g_interrupted{false};
@@ -100,6 +101,21 @@ int runSlam(const RunOptions& o) {
   }
   if (o.lookahead) config.dynamic.lookahead = true;
   if (o.detector_tiles > 0) config.dynamic.detector_tiles = o.detector_tiles;
+  if (o.fast) {
+    // Detection at about the cost of plain ORB tracking on a 2-core CPU (the benchmark's TKGt); the
+    // options given explicitly win.
+    // (Lookahead fills the frames between detector runs from the Kalman tracks.)
+    if (config.dynamic.mode != DynamicMode::TK && config.dynamic.mode != DynamicMode::TKG) {
+      throw InputError(fmt::format("--fast holds frames for the Kalman box tracker: it needs --mode TK or TKG, not {}",
+                                   toString(config.dynamic.mode)));
+    }
+    config.dynamic.lookahead = true;
+    if (o.detect_every <= 0) config.dynamic.detect_every = 2;
+    if (o.detector_tiles <= 0) config.dynamic.detector_tiles = 4;
+    // One detector run per detect_every x tiles frames, each used that many frames later (8).
+    if (o.detector_latency < 0) config.dynamic.detector_latency = config.dynamic.detect_every * config.dynamic.detector_tiles;
+    if (o.opencv_threads < 0) config.opencv_threads = 1;
+  }
   if (config.dynamic.detector_tiles > 1 && !config.dynamic.lookahead) {
     throw InputError("--detector-tiles > 1 needs --lookahead (the tiles are frames still to be tracked)");
   }
@@ -318,6 +334,9 @@ Action addRunCommand(CLI::App& app) {
   cmd->add_option("--detector-tiles", o->detector_tiles,
                   "With --lookahead: frames per detector run, tiled into one input (4 = 2x2 at half size)")
       ->check(CLI::Range(1, 9));
+  cmd->add_flag("--fast", o->fast,
+                "TK/TKG: detector at about the cost of ORB tracking: --detect-every 2 --detector-tiles 4 --detector-latency 8 "
+                "--lookahead --opencv-threads 1 (poses 15 frames late; options given explicitly win)");
   cmd->add_option("--refill-ratio", o->refill_ratio,
                   "Boxes cover at least this share: extract ORB again outside them (0 = off; overrides the config)")
       ->check(CLI::Range(0.0, 1.0));

@@ -12,7 +12,7 @@ mode_flags() {
     # TKGl: the same, frames held back until the next detection (boxes interpolated, poses 15 frames late).
     TKGl) MODE_FLAGS=(--mode TKG --detect-every 8 --detector-latency 8 --opencv-threads 1 --lookahead) ;;
     # TKGt: lookahead with tiled runs: every 2nd frame detected, 4 frames (2x2, half size) per run,
-    # one run per 8 frames as above (poses 15 frames late).
+    # one run per 8 frames as above (poses 15 frames late). The same as `tkgslam run --fast`.
     TKGt) MODE_FLAGS=(--mode TKG --detect-every 2 --detector-tiles 4 --detector-latency 8 --opencv-threads 1 --lookahead) ;;
     *) return 1 ;;
   esac

@@ -37,5 +37,36 @@ TEST(RunCli, ConfigUsedHasTheCommandLinesOptionsAndRepeatsTheRun) {
   EXPECT_EQ(again.substr(again.find('\n')), used.substr(used.find('\n')));
 }
 
+TEST(RunCli, FastIsTheTiledLookaheadScheduleAndNeedsAKalmanMode) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  const std::string run = "run --deterministic -q --max-frames 20 -c " +
+                          (test::sourceDir() / "configs" / "tum_fr1.yaml").string() + " -d " + test::fr1xyz().string();
+  std::string out;
+  ASSERT_EQ(test::runCli(run + " --mode TKG --fast -o " + (tmp / "fast").string(), &out), 0) << out;
+  ASSERT_EQ(test::runCli(run + " --mode TKG --detect-every 2 --detector-tiles 4 --detector-latency 8 --lookahead "
+                               "--opencv-threads 1 -o " + (tmp / "flags").string(),
+                         &out),
+            0)
+      << out;
+  const std::string trajectory = test::readFile(tmp / "fast" / "trajectory.txt");
+  EXPECT_GT(trajectory.size(), 1000u);
+  EXPECT_EQ(test::readFile(tmp / "flags" / "trajectory.txt"), trajectory);
+  const std::string used = test::readFile(tmp / "fast" / "config_used.yaml");
+  for (const char* line : {"  detect_every: 2\n", "  detector_tiles: 4\n", "  detector_latency: 8\n",
+                           "  lookahead: true\n", "  opencv_threads: 1\n"}) {
+    EXPECT_NE(used.find(line), std::string::npos) << line << used;
+  }
+  // Options given explicitly win; the latency follows them (one run per detect_every x tiles frames).
+  ASSERT_EQ(test::runCli(run + " --mode TK --fast --detect-every 3 -o " + (tmp / "every3").string(), &out), 0) << out;
+  EXPECT_NE(test::readFile(tmp / "every3" / "config_used.yaml").find("  detector_latency: 12\n"), std::string::npos);
+
+  for (const char* mode : {"orb", "T", "TG"}) {
+    EXPECT_EQ(test::runCli(run + " --fast --mode " + mode + " -o " + (tmp / mode).string(), &out), 2);
+    EXPECT_NE(out.find(std::string("--fast holds frames for the Kalman box tracker: it needs --mode TK or TKG, not ") + mode),
+              std::string::npos) << out;
+  }
+}
+
 }  // namespace
 }  // namespace tkgslam
