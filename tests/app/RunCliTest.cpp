@@ -26,7 +26,9 @@ TEST(RunCli, ConfigUsedHasTheCommandLinesOptionsAndRepeatsTheRun) {
   // The model path is absolute: the file lies in another folder than the config it came from.
   EXPECT_NE(used.find("  model: /"), std::string::npos) << used;
 
-  // The same run from config_used.yaml alone, without the options: the same trajectory.
+  // The same run from config_used.yaml alone, without the options: the same trajectory. (fr1_xyz has no
+  // people, so this shows the file loads from anywhere - model path included; the lines above show the
+  // options were applied.)
   ASSERT_EQ(test::runCli("run -c " + (tmp / "a" / "config_used.yaml").string() + data + (tmp / "b").string(), &out), 0)
       << out;
   const std::string trajectory = test::readFile(tmp / "a" / "trajectory.txt");
