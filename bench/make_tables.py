@@ -7,7 +7,7 @@ import re
 import statistics
 import sys
 
-from run_files import load
+from run_files import frame_ms, load, posed_untracked, stage_ms_per_frame
 
 out, frames = sys.argv[1], int(sys.argv[2])
 seqs = ["static", "low", "high", "very_high", "high_blur", "high_shake", "extreme"]
@@ -229,14 +229,9 @@ seed_spread()
 targets()
 table("RPE translation RMSE / S.D. (m, 1 s) — cf. Table 2",
       lambda ev, t, d, r: f"{fmt(stat(ev, 'rpe_translation_m', 'rmse'))} / {fmt(stat(ev, 'rpe_translation_m', 'std'))}")
-def not_tracked_posed(r):  # bridged frames, and lost ones interpolated once relocalised
-    n = r.get("predicted", 0) + r.get("interpolated_lost", 0)
-    return f" ({n})" if n else ""
-
-
 table("Tracked frames (%; in brackets the frames whose pose is the motion model's prediction or "
       "interpolated across a short loss)",
-      lambda ev, t, d, r: fmt(tracked(ev), 1) + not_tracked_posed(r))
+      lambda ev, t, d, r: fmt(tracked(ev), 1) + posed_untracked(r))
 table("Dynamic keypoints vs ground-truth masks: precision / recall",
       lambda ev, t, d, r: "—" if not d else f"{d['precision']:.2f} / {d['recall']:.2f}")
 detector_misses()
@@ -256,13 +251,10 @@ for s in seqs:
         _, t, _, _ = cell(s, m)
         if not t:
             continue
-        n = t["total"]["count"]
-
-        def per_frame(key):
-            return t[key]["mean_ms"] * t[key]["count"] / n if key in t else 0.0
-        total = t["total"]["mean_ms"] - per_frame("local_mapping_sync")
-        print(f"| {s} | {m} | {T:.1f} | {per_frame('detector') / T:.2f}T | {per_frame('box_tracker') / T:.3f}T | "
-              f"{per_frame('geometry') / T:.3f}T | {total / T:.2f}T |")
+        def per_frame(stage):
+            return stage_ms_per_frame(t, stage) / T
+        print(f"| {s} | {m} | {T:.1f} | {per_frame('detector'):.2f}T | {per_frame('box_tracker'):.3f}T | "
+              f"{per_frame('geometry'):.3f}T | {frame_ms(t) / T:.2f}T |")
 
 
 def precision_recall_svg(path):

@@ -4,7 +4,7 @@ numbers the TKG-SLAM paper publishes for the TUM fr3 dynamic sequences (standard
 import os
 import sys
 
-from run_files import load
+from run_files import frame_ms, load, posed_untracked
 
 out = sys.argv[1]
 runs = os.path.join(out, "runs")
@@ -64,32 +64,30 @@ def paper_pair(v):
     return "—" if v is None else f"{v[0]:.4f} / {v[1]:.4f}"
 
 
-def table(title, key, paper=None):
-    cols = modes + (PAPER_COLUMNS if paper else [])
+def markdown_table(title, columns, rows):
+    """Prints a table under a heading; rows are (sequence, [cell per column])."""
     print(f"\n### {title}\n")
-    print("| sequence | " + " | ".join(cols) + " |")
-    print("|---" * (len(cols) + 1) + "|")
+    print("| sequence | " + " | ".join(columns) + " |")
+    print("|---" * (len(columns) + 1) + "|")
+    for s, cells in rows:
+        print(f"| {s} | " + " | ".join(cells) + " |")
+
+
+def table(title, key, paper=None):
+    """Our RMSE / S.D. of an eval.json statistic per mode, and the paper's numbers when given."""
+    rows = []
     for s in seqs:
         row = [pair(run_file(s, m, "eval.json").get(key)) for m in modes]
         if paper:
             published = paper.get(PAPER_NAMES.get(s, ""))
             row += [paper_pair(v) for v in published] if published else ["—"] * len(PAPER_COLUMNS)
-        print(f"| {s} | " + " | ".join(row) + " |")
+        rows.append((s, row))
+    markdown_table(title, modes + (PAPER_COLUMNS if paper else []), rows)
 
 
 def tracked(seq, mode):
     r = run_file(seq, mode, "run.json")
-    if not r:
-        return "—"
-    posed = r.get("predicted", 0) + r.get("interpolated_lost", 0)
-    return f"{100.0 * r['tracked_ratio']:.1f}" + (f" ({posed})" if posed else "")
-
-
-def frame_ms(timing):
-    """Mean time per frame without local mapping (deterministic runs do it in step with tracking)."""
-    total = timing["total"]
-    mapping = timing.get("local_mapping_sync", {"mean_ms": 0.0, "count": 0})
-    return total["mean_ms"] - mapping["mean_ms"] * mapping["count"] / total["count"]
+    return "—" if not r else f"{100.0 * r['tracked_ratio']:.1f}" + posed_untracked(r)
 
 
 def times(seq, mode):
@@ -113,24 +111,14 @@ table("ATE RMSE / S.D. (m) — cf. the paper's Table 1", "ate_m", PAPER_ATE)
 ablation = [m for m in ("T", "TK", "TG", "TKG") if m in modes]
 walking = [s for s in seqs if PAPER_NAMES.get(s) in PAPER_ABLATION]
 if ablation and walking:
-    print("\n### Ablation: ATE RMSE / S.D. (m), ours | the paper's Table 3\n")
-    print("| sequence | " + " | ".join(f"{m} | paper: {m}" for m in ablation) + " |")
-    print("|---" * (2 * len(ablation) + 1) + "|")
-    for s in walking:
-        published = PAPER_ABLATION[PAPER_NAMES[s]]
-        print(f"| {s} | " + " | ".join(f"{pair(run_file(s, m, 'eval.json').get('ate_m'))} | {paper_pair(published[m])}"
-                                       for m in ablation) + " |")
+    markdown_table("Ablation: ATE RMSE / S.D. (m), ours | the paper's Table 3",
+                   [c for m in ablation for c in (m, f"paper: {m}")],
+                   [(s, [c for m in ablation for c in (pair(run_file(s, m, "eval.json").get("ate_m")),
+                                                      paper_pair(PAPER_ABLATION[PAPER_NAMES[s]][m]))])
+                    for s in walking])
 table("RPE translation RMSE / S.D. (m, 1 s) — cf. the paper's Table 2", "rpe_translation_m", PAPER_RPE)
 table("RPE rotation RMSE / S.D. (deg, 1 s)", "rpe_rotation_deg")
-print("\n### Tracked frames (%; in brackets the frames posed by the motion model or interpolated across a short "
-      "loss)\n")
-print("| sequence | " + " | ".join(modes) + " |")
-print("|---" * (len(modes) + 1) + "|")
-for s in seqs:
-    print(f"| {s} | " + " | ".join(tracked(s, m) for m in modes) + " |")
-print("\n### Mean time per frame (ms; in brackets as multiples of T, the `orb` run's ORB extraction + tracking, "
-      "cf. the paper's Table 4; local mapping excluded)\n")
-print("| sequence | " + " | ".join(modes) + " |")
-print("|---" * (len(modes) + 1) + "|")
-for s in seqs:
-    print(f"| {s} | " + " | ".join(times(s, m) for m in modes) + " |")
+markdown_table("Tracked frames (%; in brackets the frames posed by the motion model or interpolated across a short "
+               "loss)", modes, [(s, [tracked(s, m) for m in modes]) for s in seqs])
+markdown_table("Mean time per frame (ms; in brackets as multiples of T, the `orb` run's ORB extraction + tracking, "
+               "cf. the paper's Table 4; local mapping excluded)", modes, [(s, [times(s, m) for m in modes]) for s in seqs])

@@ -52,6 +52,10 @@ void checkNoDuplicateKeys(const YAML::Node& map, const std::string& source, cons
   }
 }
 
+void require(bool ok, const std::string& source, const std::string& what) {
+  if (!ok) throw InputError(fmt::format("{}: {}", source, what));
+}
+
 // Reads one mapping section, remembering which keys were used so leftovers can be reported.
 class Section {
  public:
@@ -87,9 +91,7 @@ class Section {
     value = std::move(parsed);
   }
 
-  void require(bool ok, const std::string& what) const {
-    if (!ok) throw InputError(fmt::format("{}: {}", source_, what));
-  }
+  void require(bool ok, const std::string& what) const { io::require(ok, source_, what); }
 
   void checkNoUnknownKeys() const {
     if (!present_) return;
@@ -105,10 +107,6 @@ class Section {
   std::string name_, source_;
   std::set<std::string> used_;
 };
-
-void require(bool ok, const std::string& source, const std::string& what) {
-  if (!ok) throw InputError(fmt::format("{}: {}", source, what));
-}
 
 constexpr bool kRequired = true;
 
