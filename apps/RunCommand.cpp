@@ -26,6 +26,8 @@ namespace {
 
 struct RunOptions {
   std::string config, dataset, out, mode, debug_dynamic;
+  std::string load_map, save_map;  // map files (io/MapFile.h); empty: none
+  int start_frame = 0;
   bool deterministic = false;
   bool quiet = false;
   bool report = false;
@@ -41,6 +43,12 @@ struct RunOptions {
 
 std::atomic<bool> g_interrupted{false};
 extern "C" void onInterrupt(int) { g_interrupted = true; }
+
+/// A file's absolute path as a JSON string, or null for none.
+std::string jsonPathOrNull(const std::string& path) {
+  if (path.empty()) return "null";
+  return fmt::format("\"{}\"", std::filesystem::absolute(path).lexically_normal().string());
+}
 
 void writeText(const std::filesystem::path& p, const std::string& text) {
   std::ofstream out(p);
@@ -125,11 +133,28 @@ int runSlam(const RunOptions& o) {
   dopt.expected_height = config.camera.height;
   dopt.loops = o.loops;
   io::TumDataset dataset(o.dataset, dopt);
-  io::createOutputFolder(o.out);
-  const std::filesystem::path out(o.out);
+  if (o.start_frame >= dataset.size()) {
+    throw InputError(fmt::format("--start-frame {}: the sequence has {} frames", o.start_frame, dataset.size()));
+  }
+  if (!o.save_map.empty()) {
+    // Refused now, not after the run.
+    const auto dir = std::filesystem::absolute(o.save_map).parent_path();
+    if (!std::filesystem::is_directory(dir)) {
+      throw InputError(fmt::format("--save-map '{}': folder '{}' does not exist", o.save_map, dir.string()));
+    }
+  }
 
   SlamSystem slam(config);
-  int n = o.max_frames > 0 ? std::min(o.max_frames, dataset.size()) : dataset.size();
+  if (!o.load_map.empty()) {
+    const size_t kfs = slam.loadMap(o.load_map);
+    std::printf("loaded map %s: %zu keyframes, %zu points; relocalising in it\n", o.load_map.c_str(), kfs,
+                slam.mapPointCount());
+  }
+  io::createOutputFolder(o.out);
+  const std::filesystem::path out(o.out);
+  const int first = o.start_frame;
+  const int end = o.max_frames > 0 ? std::min(first + o.max_frames, dataset.size()) : dataset.size();
+  int n = end - first;
   std::printf("tkgslam run: %d frames from %s (%s, dynamic mode %s)\n", n, o.dataset.c_str(),
               config.deterministic ? "deterministic" : "threaded", toString(config.dynamic.mode));
   int skipped = 0, lost = 0, predicted = 0, blurred = 0, segments = 0, reanchored = 0, processed = 0;
@@ -181,7 +206,7 @@ int runSlam(const RunOptions& o) {
                                f.timestamp);
     }
   };
-  for (int i = 0; i < n && !g_interrupted; ++i) {
+  for (int i = first; i < end && !g_interrupted; ++i) {
     io::RgbdImages images;
     try {
       images = dataset.load(i);
@@ -194,14 +219,15 @@ int runSlam(const RunOptions& o) {
     }
     ++processed;
     for (const auto& f : slam.processFrame(images)) logOutcome(f);
-    if ((i + 1) % 100 == 0 || i + 1 == n) {
-      memory_log << fmt::format("{}\t{:.1f}\t{}\t{}\n", i + 1, residentMemoryMiB(), slam.keyFrameCount(),
+    const int done = i + 1 - first;
+    if (done % 100 == 0 || done == n) {
+      memory_log << fmt::format("{}\t{:.1f}\t{}\t{}\n", done, residentMemoryMiB(), slam.keyFrameCount(),
                                 slam.mapPointCount())
                  << std::flush;
     }
-    if (!o.quiet && ((i + 1) % 50 == 0 || i + 1 == n)) {
+    if (!o.quiet && (done % 50 == 0 || done == n)) {
       std::fprintf(stderr, "  frame %4d/%d  tracked %5.1f%%  keyframes %3zu  map points %5zu  %.1f ms/frame  %.0f MiB\n",
-                   i + 1, n, 100.0 * slam.framesTracked() / std::max(1, slam.framesProcessed()), slam.keyFrameCount(),
+                   done, n, 100.0 * slam.framesTracked() / std::max(1, slam.framesProcessed()), slam.keyFrameCount(),
                    slam.mapPointCount(), slam.timing().mean("total"), residentMemoryMiB());
     }
   }
@@ -220,6 +246,11 @@ int runSlam(const RunOptions& o) {
   if (!o.debug_dynamic.empty()) writeDynamicDebug(o.debug_dynamic, slam.dynamicInfo());
   if (config.dynamic.mode != DynamicMode::Orb) writeDynamicDebug((out / "dynamic.jsonl").string(), slam.dynamicInfo());
   writeUsedConfig(out / "config_used.yaml", config);
+  if (!o.save_map.empty()) {
+    slam.saveMap(o.save_map);
+    std::printf("map saved: %s (%zu keyframes, %zu points)\n", o.save_map.c_str(), slam.keyFrameCount(),
+                slam.mapPointCount());
+  }
   if (const auto& c = slam.classification(); c.frames > 0) {
     writeText(out / "dynamic_eval.json",
               fmt::format("{{\"frames\": {}, \"true_positive\": {}, \"false_positive\": {}, \"false_negative\": {}, "
@@ -251,13 +282,14 @@ int runSlam(const RunOptions& o) {
                         "\"interpolated_lost\": {}, \"blurred\": {}, \"skipped\": {}, "
                         "\"keyframes\": {}, \"keyframes_held\": {}, \"loops_closed\": {}, "
                         "\"map_points\": {}, \"mean_ms_per_frame\": {:.2f}, \"median_ms_per_frame\": {:.2f}, "
-                        "\"ratio_threshold\": {}}}\n",
+                        "\"ratio_threshold\": {}, \"start_frame\": {}, \"map_loaded\": {}, \"map_saved\": {}}}\n",
                         std::filesystem::absolute(o.dataset).lexically_normal().string(),
                         std::filesystem::absolute(o.config).lexically_normal().string(), toString(config.dynamic.mode),
                         config.deterministic ? "true" : "false", n, traj.size(), ratio, predicted, interpolated, blurred, skipped,
                         slam.keyFrameCount(), slam.mappingStats().keyframes_held, slam.loopStats().closed,
                         slam.mapPointCount(), slam.timing().mean("total"), slam.timing().median("total"),
-                        config.dynamic.geometry.ratio_threshold));
+                        config.dynamic.geometry.ratio_threshold, first, jsonPathOrNull(o.load_map),
+                        jsonPathOrNull(o.save_map)));
   std::printf("frames %d, tracked %zu (%.2f %%; %d of them predicted, %d lost and then interpolated), blurred %d, "
               "skipped %d (unreadable), lost %d, keyframes %zu, map points %zu%s\n",
               n, traj.size(), 100.0 * ratio, predicted, interpolated, blurred, skipped, lost, slam.keyFrameCount(),
@@ -311,6 +343,12 @@ Action addRunCommand(CLI::App& app) {
   cmd->add_flag("--deterministic", o->deterministic,
                 "Same input, same trajectory bit for bit (mapping runs in step with tracking)");
   cmd->add_option("--max-frames", o->max_frames, "Process only the first N frames")->check(nonNegativeNumber());
+  cmd->add_option("--start-frame", o->start_frame, "Start at the N-th frame of the sequence (0 = the first)")
+      ->check(nonNegativeNumber());
+  cmd->add_option("--load-map", o->load_map,
+                  "Start in a map saved by an earlier run (--save-map): relocalise in it and extend it; poses come out "
+                  "in its world frame");
+  cmd->add_option("--save-map", o->save_map, "Save the map at the end of the run to this file, for --load-map");
   cmd->add_option("--loops", o->loops, "Play the sequence N times (soak test)")->check(positiveNumber());
   cmd->add_flag("-q,--quiet", o->quiet, "No progress lines");
   cmd->add_flag("--report", o->report, "Also write OUT/report.html (plots, 3-D view, timings)");

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "TestSupport.h"
+#include "tkgslam/eval/Ate.h"
+#include "tkgslam/io/TrajectoryFile.h"
 
 namespace tkgslam {
 namespace {
@@ -68,6 +70,63 @@ TEST(RunCli, FastIsTheTiledLookaheadScheduleAndNeedsAKalmanMode) {
     EXPECT_NE(out.find(std::string("--fast holds frames for the Kalman box tracker: it needs --mode TK or TKG, not ") + mode),
               std::string::npos) << out;
   }
+}
+
+TEST(RunCli, ASavedMapPutsTheNextRunInItsWorldFrame) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  const std::string run = "run --deterministic -q --mode orb -c " +
+                          (test::sourceDir() / "configs" / "tum_fr1.yaml").string() + " -d " + test::fr1xyz().string();
+  const std::string map = (tmp / "first.tkgmap").string();
+  std::string out;
+  ASSERT_EQ(test::runCli(run + " --max-frames 150 --save-map " + map + " -o " + (tmp / "first").string(), &out), 0)
+      << out;
+  EXPECT_NE(out.find("map saved: " + map), std::string::npos) << out;
+  // Frames 150-299: in the saved map, and on their own.
+  ASSERT_EQ(test::runCli(run + " --start-frame 150 --max-frames 150 --load-map " + map + " -o " +
+                             (tmp / "second").string(),
+                         &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("relocalising in it"), std::string::npos) << out;
+  ASSERT_EQ(test::runCli(run + " --start-frame 150 --max-frames 150 -o " + (tmp / "alone").string(), &out), 0) << out;
+  EXPECT_NE(test::readFile(tmp / "second" / "run.json").find("\"start_frame\": 150, \"map_loaded\": \"" + map + "\""),
+            std::string::npos);
+
+  // Both halves as one trajectory, aligned once: as good as one run over the 300 frames (0.0114 m)
+  // when the second half is in the first's world frame; not when it starts a world of its own.
+  const auto gt = io::readTumTrajectory((test::fr1xyz() / "groundtruth.txt").string());
+  const auto first = io::readTumTrajectory((tmp / "first" / "trajectory.txt").string());
+  const auto joined_ate = [&](const std::string& second) {
+    auto joined = first;
+    for (const auto& e : io::readTumTrajectory((tmp / second / "trajectory.txt").string())) joined.push_back(e);
+    EXPECT_GE(joined.size(), 295u);
+    return eval::computeAte(gt, joined).stats.rmse;
+  };
+  EXPECT_LT(joined_ate("second"), 0.014);   // measured 0.0110
+  EXPECT_GT(joined_ate("alone"), 0.020);    // measured 0.0241
+  // keyframes.txt lists this run's keyframes: the loaded ones are in the map, not in its trajectory.
+  const auto kfs = io::readTumTrajectory((tmp / "second" / "keyframes.txt").string());
+  ASSERT_FALSE(kfs.empty());
+  EXPECT_GE(kfs.front().timestamp, first.back().timestamp);
+
+  // A map from another camera, a file that is no map, a folder that is not there: refused before the run.
+  EXPECT_EQ(test::runCli("run -q -c " + (test::sourceDir() / "configs" / "tum_fr2.yaml").string() + " -d " +
+                             test::fr1xyz().string() + " --load-map " + map + " -o " + (tmp / "x").string(),
+                         &out),
+            2);
+  EXPECT_NE(out.find("the map was built with another camera"), std::string::npos) << out;
+  EXPECT_EQ(test::runCli(run + " --load-map " + (tmp / "first" / "run.json").string() + " -o " + (tmp / "x").string(),
+                         &out),
+            2);
+  EXPECT_NE(out.find("not a valid map file"), std::string::npos) << out;
+  EXPECT_EQ(test::runCli(run + " --save-map " + (tmp / "nowhere" / "m.tkgmap").string() + " -o " + (tmp / "x").string(),
+                         &out),
+            2);
+  EXPECT_NE(out.find("does not exist"), std::string::npos) << out;
+  EXPECT_EQ(test::runCli(run + " --start-frame 792 -o " + (tmp / "x").string(), &out), 2);
+  EXPECT_NE(out.find("--start-frame 792: the sequence has 792 frames"), std::string::npos) << out;
+  EXPECT_FALSE(std::filesystem::exists(tmp / "x"));
 }
 
 }  // namespace

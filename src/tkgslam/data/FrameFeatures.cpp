@@ -25,6 +25,22 @@ std::vector<int> FrameFeatures::featuresInArea(float x, float y, float r, int mi
   return out;
 }
 
+void indexFeatures(FrameFeatures& f, const camera::PinholeCamera& camera) {
+  f.min_x = float(camera.minX());
+  f.max_x = float(camera.maxX());
+  f.min_y = float(camera.minY());
+  f.max_y = float(camera.maxY());
+  f.cell_w_inv = FrameFeatures::kGridCols / (f.max_x - f.min_x);
+  f.cell_h_inv = FrameFeatures::kGridRows / (f.max_y - f.min_y);
+  f.grid.assign(FrameFeatures::kGridCols * FrameFeatures::kGridRows, {});
+  for (int i = 0; i < f.size(); ++i) {
+    const int gx = int(std::floor((f.ideal[i].pt.x - f.min_x) * f.cell_w_inv));
+    const int gy = int(std::floor((f.ideal[i].pt.y - f.min_y) * f.cell_h_inv));
+    if (gx < 0 || gy < 0 || gx >= FrameFeatures::kGridCols || gy >= FrameFeatures::kGridRows) continue;
+    f.grid[gy * FrameFeatures::kGridCols + gx].push_back(i);
+  }
+}
+
 std::shared_ptr<FrameFeatures> makeFrameFeatures(feature::OrbFeatures orb, const cv::Mat& bgr, const cv::Mat& depth_m,
                                                  const camera::PinholeCamera& camera, const DepthParams& dp) {
   auto f = std::make_shared<FrameFeatures>();
@@ -53,19 +69,7 @@ std::shared_ptr<FrameFeatures> makeFrameFeatures(feature::OrbFeatures orb, const
       }
     }
   }
-  f->min_x = float(camera.minX());
-  f->max_x = float(camera.maxX());
-  f->min_y = float(camera.minY());
-  f->max_y = float(camera.maxY());
-  f->cell_w_inv = FrameFeatures::kGridCols / (f->max_x - f->min_x);
-  f->cell_h_inv = FrameFeatures::kGridRows / (f->max_y - f->min_y);
-  f->grid.assign(FrameFeatures::kGridCols * FrameFeatures::kGridRows, {});
-  for (int i = 0; i < n; ++i) {
-    const int gx = int(std::floor((f->ideal[i].pt.x - f->min_x) * f->cell_w_inv));
-    const int gy = int(std::floor((f->ideal[i].pt.y - f->min_y) * f->cell_h_inv));
-    if (gx < 0 || gy < 0 || gx >= FrameFeatures::kGridCols || gy >= FrameFeatures::kGridRows) continue;
-    f->grid[gy * FrameFeatures::kGridCols + gx].push_back(i);
-  }
+  indexFeatures(*f, camera);
   return f;
 }
 

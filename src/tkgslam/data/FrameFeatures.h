@@ -38,6 +38,10 @@ struct FrameFeatures {
   std::vector<int> featuresInArea(float x, float y, float r, int min_level = -1, int max_level = -1) const;
 };
 
+/// Sets the image bounds and fills the grid from the ideal keypoints (makeFrameFeatures does;
+/// also for features read back from a map file).
+void indexFeatures(FrameFeatures& features, const camera::PinholeCamera& camera);
+
 /// Builds the features of one RGB-D image: undistorts keypoints, attaches depth (looked up at
 /// the raw keypoint pixel; depth is registered to colour) and fills the grid.
 std::shared_ptr<FrameFeatures> makeFrameFeatures(feature::OrbFeatures orb, const cv::Mat& bgr, const cv::Mat& depth_m,

@@ -2,6 +2,7 @@
 // The map: keyframes and map points, and the one mutex that guards them and their links.
 // Tracking holds the lock while it works on a frame (not during feature extraction); local
 // mapping holds it while it edits the map (not while the bundle adjustment solver runs).
+#include <algorithm>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -18,6 +19,11 @@ class Map {
 
   long newKeyFrameId() { return next_kf_id_++; }
   long newMapPointId() { return next_mp_id_++; }
+  /// New ids continue after these (a map read back from a file keeps its ids).
+  void continueIdsAfter(long keyframe_id, long map_point_id) {
+    next_kf_id_ = std::max(next_kf_id_, keyframe_id + 1);
+    next_mp_id_ = std::max(next_mp_id_, map_point_id + 1);
+  }
 
   void addKeyFrame(const std::shared_ptr<KeyFrame>& kf);
   void addMapPoint(const std::shared_ptr<MapPoint>& mp);

@@ -7,8 +7,10 @@
 #include <opencv2/core/utility.hpp>
 
 #include "tkgslam/common/Elapsed.h"
+#include "tkgslam/common/Error.h"
 #include "tkgslam/dynamic/DynamicFilter.h"
 #include "tkgslam/feature/ImageSharpness.h"
+#include "tkgslam/io/MapFile.h"
 
 namespace tkgslam {
 
@@ -270,6 +272,19 @@ std::vector<FrameOutcome> SlamSystem::finish() {
   return out;
 }
 
+size_t SlamSystem::loadMap(const std::string& path) {
+  if (frames_ > 0) throw InputError("a map can only be loaded before the first frame");
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  const size_t n = io::readMapFile(path, map_, camera_, extractor_.pyramid());
+  tracker_->startInLoadedMap();
+  return n;
+}
+
+void SlamSystem::saveMap(const std::string& path) const {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  io::writeMapFile(path, map_, camera_, extractor_.pyramid());
+}
+
 std::vector<StampedPose> SlamSystem::trajectory() const {
   std::lock_guard<std::mutex> lock(map_.mutex());
   std::vector<StampedPose> out;
@@ -281,7 +296,7 @@ std::vector<StampedPose> SlamSystem::keyFrameTrajectory() const {
   std::lock_guard<std::mutex> lock(map_.mutex());
   std::vector<StampedPose> out;
   for (const auto& [id, kf] : map_.allKeyFrames()) {
-    if (!kf->bad) out.push_back({kf->timestamp, kf->T_wc()});
+    if (!kf->bad && kf->frame_id >= 0) out.push_back({kf->timestamp, kf->T_wc()});
   }
   return out;
 }

@@ -76,9 +76,17 @@ class SlamSystem {
   /// queued keyframes; returns the outcomes of the frames tracked here.
   std::vector<FrameOutcome> finish();
 
+  /// Starts this run in a map saved by an earlier one (io/MapFile.h): its keyframes and points
+  /// become this run's map, and tracking first relocalises against them (Tracker::startInLoadedMap),
+  /// so the poses come out in that map's world frame. Call before the first frame. Returns the
+  /// number of keyframes read. Throws InputError (missing or corrupt file, another camera).
+  size_t loadMap(const std::string& path);
+  /// Saves the active map for a later run's loadMap (call after finish()). Throws InputError.
+  void saveMap(const std::string& path) const;
+
   /// Camera-to-world poses of every tracked frame, with the latest keyframe corrections.
   std::vector<StampedPose> trajectory() const;
-  /// Camera-to-world poses of the keyframes still in the map.
+  /// Camera-to-world poses of this run's keyframes still in the map (not those of a loaded map).
   std::vector<StampedPose> keyFrameTrajectory() const;
   std::vector<io::ColouredPoint> mapPoints() const;
   size_t keyFrameCount() const;

@@ -125,7 +125,8 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
       return result;
     }
     // After bridged frames the step spans several frames: the velocity is its per-frame share.
-    velocity_ = orthonormalized(poseRoot(frame.T_cw * last_frame_->T_cw.inverse(), gap_frames_ + 1));
+    // (No last frame: the first frame of a run in a loaded map.)
+    if (last_frame_) velocity_ = orthonormalized(poseRoot(frame.T_cw * last_frame_->T_cw.inverse(), gap_frames_ + 1));
     has_velocity_ = !after_loss;
     const int gap = gap_frames_;
     gap_frames_ = 0;
@@ -190,7 +191,8 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     // Relocalisation keeps failing on a frame good enough to start a map: start a new map segment
     // where the camera was last seen. (On frames too poor to start one - the camera covered, no
     // depth - the old map is kept for relocalisation.)
-    frame.T_cw = last_frame_->T_cw;
+    frame.T_cw = last_frame_ ? last_frame_->T_cw : Pose::Identity();
+    relocalize_in_whole_map_ = false;
     spdlog::warn("tracking lost for {} frames; starting a new map segment at frame {}", lost_frames_, frame.id);
     // Re-anchor candidates: this segment's last keyframes, and those of the segment before if
     // this one never found it (a short segment on blurred frames must not hide a long one).
@@ -575,11 +577,16 @@ std::shared_ptr<KeyFrame> Tracker::createKeyFrame(Frame& frame) {
   return kf;
 }
 
+void Tracker::startInLoadedMap() {
+  state_ = TrackingState::Lost;
+  relocalize_in_whole_map_ = true;
+}
+
 bool Tracker::relocalize(Frame& frame) {
-  // Candidates: the most recent keyframes of the active map.
+  // Candidates: the most recent keyframes of the active map (all of a loaded one, newest first).
   auto kfs = map_.keyFrames();
   if (kfs.empty()) return false;
-  const size_t first = kfs.size() > 30 ? kfs.size() - 30 : 0;
+  const size_t first = kfs.size() > 30 && !relocalize_in_whole_map_ ? kfs.size() - 30 : 0;
   for (size_t k = kfs.size(); k-- > first;) {
     const auto& kf = kfs[k];
     std::vector<std::shared_ptr<MapPoint>> matches;
@@ -592,6 +599,8 @@ bool Tracker::relocalize(Frame& frame) {
     if (optimize::optimizeFramePose(frame, K_, pyr_) < 10) continue;
     if (discardOutliers(frame) < 15) continue;
     reference_kf_ = kf;
+    if (!last_kf_) last_kf_ = kf;
+    relocalize_in_whole_map_ = false;
     last_reloc_frame_ = frame.id;
     spdlog::info("relocalised at frame {} against keyframe {}", frame.id, kf->id);
     return true;

@@ -76,6 +76,13 @@ class Tracker {
   TrackResult track(data::Frame frame, bool mapper_idle, int mapper_queue, const RefineKeypoints& refine = {});
 
   TrackingState state() const { return state_; }
+  /// The map holds a map read from a file (io::readMapFile) and nothing else yet: tracking starts
+  /// lost, relocalising against all of that map's keyframes (not only the recent ones) until it
+  /// finds the camera, so this run's poses come out in that map's world frame. If it keeps
+  /// failing, a new map segment starts as after any loss (at the identity: no pose is known),
+  /// re-anchored to the loaded map's last keyframes once it sees what they saw. Call before the
+  /// first frame.
+  void startInLoadedMap();
   /// An image of this sharpness (feature::imageSharpness) would count as motion-blurred now
   /// (TrackingParams::blur_ratio of the recent sharp frames' median). Call from the tracking thread.
   bool looksBlurred(double sharpness) const;
@@ -143,6 +150,7 @@ class Tracker {
   Pose velocity_ = Pose::Identity();  ///< T_cur,last of the last tracked step
   bool has_velocity_ = false;
   long last_reloc_frame_ = -1000;
+  bool relocalize_in_whole_map_ = false;  ///< see startInLoadedMap()
   int lost_frames_ = 0;
   /// Timestamps of the frames lost since the last tracked one, while relocalisation may still
   /// find the camera soon enough for them to be interpolated (at most relocalization_attempts).
