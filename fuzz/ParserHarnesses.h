@@ -12,6 +12,7 @@
 #include "tkgslam/common/Error.h"
 #include "tkgslam/eval/Association.h"
 #include "tkgslam/io/ConfigFile.h"
+#include "tkgslam/io/MapFile.h"
 #include "tkgslam/io/TrajectoryFile.h"
 #include "tkgslam/io/TumDataset.h"
 
@@ -67,6 +68,44 @@ inline void fuzzConfig(const std::uint8_t* data, std::size_t size) {
   } catch (const InputError&) {
     __builtin_trap();  // a config it accepted, written out, must be accepted again
   }
+}
+
+/// The camera and pyramid of configs/tum_fr1.yaml, which the map-file seeds were made with.
+inline camera::CameraParams fuzzMapCamera() {
+  camera::CameraParams c;
+  c.fx = 517.306408;
+  c.fy = 516.469215;
+  c.cx = 318.643040;
+  c.cy = 255.313989;
+  c.distortion = {0.262383, -0.953104, -0.005358, 0.002628, 1.163314};
+  return c;
+}
+
+/// A map file as `tkgslam run --load-map` reads it. One it accepts must be consistent (every
+/// observation in its keyframe's slot) and survive being written and read again unchanged.
+inline void fuzzMapFile(const std::uint8_t* data, std::size_t size) {
+  static const camera::PinholeCamera camera(fuzzMapCamera());
+  static const auto pyramid = feature::ScalePyramid::make(8, 1.2);
+  data::Map map;
+  try {
+    io::deserializeMap(std::string_view(reinterpret_cast<const char*>(data), size), map, camera, pyramid);
+  } catch (const InputError&) {
+    if (map.keyFrameCount() + map.mapPointCount() != 0) __builtin_trap();  // refused, yet half-loaded
+    return;
+  }
+  for (const auto& mp : map.mapPoints()) {
+    for (const auto& [kf, idx] : mp->observations) {
+      if (idx < 0 || size_t(idx) >= kf->map_points.size() || kf->map_points[idx].get() != mp.get()) __builtin_trap();
+    }
+  }
+  const std::string written = io::serializeMap(map, camera, pyramid);
+  data::Map again;
+  try {
+    io::deserializeMap(written, again, camera, pyramid);
+  } catch (const InputError&) {
+    __builtin_trap();  // a map it accepted, written out, must be accepted again
+  }
+  if (io::serializeMap(again, camera, pyramid) != written) __builtin_trap();
 }
 
 }  // namespace tkgslam::fuzz

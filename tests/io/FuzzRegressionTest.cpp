@@ -29,6 +29,7 @@ int replay(const std::string& name, Harness harness) {
 TEST(FuzzRegression, TumListsInputs) { EXPECT_GE(replay("tum_lists", fuzz::fuzzTumLists), 2); }
 TEST(FuzzRegression, TrajectoryInputs) { EXPECT_GE(replay("trajectory", fuzz::fuzzTrajectory), 3); }
 TEST(FuzzRegression, ConfigInputs) { EXPECT_GE(replay("config", fuzz::fuzzConfig), 4); }
+TEST(FuzzRegression, MapFileInputs) { EXPECT_GE(replay("map_file", fuzz::fuzzMapFile), 1); }
 
 }  // namespace
 }  // namespace tkgslam

@@ -21,6 +21,9 @@ constexpr char kMagic[12] = {'T', 'K', 'G', 'S', 'L', 'A', 'M', '-', 'M', 'A', '
 constexpr uint32_t kByteOrder = 0x01020304;  // read back as another value on a big-endian machine
 constexpr char kEnd[4] = {'E', 'N', 'D', '\0'};
 constexpr int kDescriptorBytes = 32;
+// Ids and counts are bounded far beyond any map, so that arithmetic on them cannot overflow.
+constexpr int64_t kMaxId = int64_t(1) << 40;
+constexpr int32_t kMaxCount = 1 << 30;
 
 class ByteWriter {
  public:
@@ -78,6 +81,12 @@ class ByteReader {
   }
   /// A count of records of at least `record_bytes` each: refused before anything is allocated if
   /// the rest of the file cannot hold them.
+  /// An id in [lo, kMaxId).
+  int64_t getId(const char* what, int64_t lo = 0) {
+    const auto v = get<int64_t>(what);
+    if (v < lo || v >= kMaxId) fail(fmt::format("{} {} is out of range", what, v));
+    return v;
+  }
   uint64_t getCount(size_t record_bytes, const char* what) {
     const auto n = get<uint64_t>(what);
     if (n > remaining() / record_bytes) fail(fmt::format("{} ({}) is more than the file holds", what, n));
@@ -176,13 +185,12 @@ struct KeyFrameRecord {
 
 KeyFrameRecord readKeyFrame(ByteReader& r, const camera::PinholeCamera& camera, const feature::ScalePyramid& pyr) {
   KeyFrameRecord kf;
-  kf.id = r.get<int64_t>("keyframe id");
-  if (kf.id < 0) r.fail(fmt::format("keyframe id {} is negative", kf.id));
-  kf.frame_id = r.get<int64_t>("keyframe frame id");
+  kf.id = r.getId("keyframe id");
+  kf.frame_id = r.getId("keyframe frame id", -kMaxId);
   kf.timestamp = r.get<double>("keyframe timestamp");
   kf.T_cw = r.getPose("keyframe pose");
   kf.not_erase = r.get<uint8_t>("keyframe flags") != 0;
-  kf.parent = r.get<int64_t>("keyframe parent");
+  kf.parent = r.getId("keyframe parent", -1);
   auto F = std::make_shared<data::FrameFeatures>();
   F->sharpness = r.get<double>("keyframe sharpness");
   const auto n = r.get<uint32_t>("keypoint count");
@@ -210,6 +218,11 @@ KeyFrameRecord readKeyFrame(ByteReader& r, const camera::PinholeCamera& camera, 
     F->ideal[i].pt.y = r.get<float>("keypoint ideal y");
     F->depth[i] = r.get<float>("keypoint depth");
     F->u_right[i] = r.get<float>("keypoint right u");
+    // Pixel positions far off the image would overflow the grid's cell arithmetic.
+    const float limit = 10.0f * float(std::max(camera.width(), camera.height()));
+    for (float v : {k.pt.x, k.pt.y, F->ideal[i].pt.x, F->ideal[i].pt.y, F->u_right[i]}) {
+      if (std::abs(v) > limit) r.fail(fmt::format("keypoint position {} is far outside the image", v));
+    }
     if (F->depth[i] < 0) r.fail(fmt::format("keypoint depth {} is negative", F->depth[i]));
     F->excluded[i] = r.get<uint8_t>("keypoint flags") != 0;
     r.getBytes(&F->colour[i], 3, "keypoint colour");
@@ -242,8 +255,7 @@ void writeMapPoint(ByteWriter& w, const data::MapPoint& mp) {
 /// Reads a point and links it into its keyframes (`keyframes` by id; their slots must be free).
 std::shared_ptr<data::MapPoint> readMapPoint(ByteReader& r,
                                              const std::map<long, std::shared_ptr<data::KeyFrame>>& keyframes) {
-  const auto id = r.get<int64_t>("point id");
-  if (id < 0) r.fail(fmt::format("point id {} is negative", id));
+  const auto id = r.getId("point id");
   Vec3 pos;
   for (int k = 0; k < 3; ++k) pos[k] = r.get<double>("point position");
   cv::Mat descriptor(1, kDescriptorBytes, CV_8U);
@@ -252,15 +264,20 @@ std::shared_ptr<data::MapPoint> readMapPoint(ByteReader& r,
   for (int k = 0; k < 3; ++k) mp->normal[k] = r.get<double>("point normal");
   mp->min_distance = r.get<float>("point distance range");
   mp->max_distance = r.get<float>("point distance range");
-  const auto reference = r.get<int64_t>("point reference keyframe");
-  mp->first_keyframe_id = r.get<int64_t>("point first keyframe");
+  if (!(mp->min_distance > 0 && mp->max_distance >= mp->min_distance)) {
+    r.fail(fmt::format("point {} has distance range {} - {} m", id, mp->min_distance, mp->max_distance));
+  }
+  const auto reference = r.getId("point reference keyframe", -1);
+  mp->first_keyframe_id = r.getId("point first keyframe");
   mp->visible = r.get<int32_t>("point visible count");
   mp->found = r.get<int32_t>("point found count");
-  if (mp->visible < 1 || mp->found < 0) r.fail(fmt::format("point {} has counts {} / {}", id, mp->found, mp->visible));
+  if (mp->visible < 1 || mp->found < 0 || mp->visible >= kMaxCount || mp->found >= kMaxCount) {
+    r.fail(fmt::format("point {} has counts {} / {}", id, mp->found, mp->visible));
+  }
   const auto n = r.getCount(kObservationBytes, "observation count");
   if (n == 0) r.fail(fmt::format("point {} has no observation", id));
   for (uint64_t k = 0; k < n; ++k) {
-    const auto kf_id = r.get<int64_t>("observation keyframe");
+    const auto kf_id = r.getId("observation keyframe");
     const auto idx = r.get<uint32_t>("observation keypoint");
     const auto it = keyframes.find(kf_id);
     if (it == keyframes.end()) r.fail(fmt::format("point {} is seen by keyframe {}, which is not in the file", id, kf_id));
