@@ -182,5 +182,27 @@ TEST(MapFile, AnotherCameraPyramidOrVersionIsRefusedSayingWhy) {
   EXPECT_EQ(map.keyFrameCount(), saved.keyframes);
 }
 
+TEST(MapFile, AParentThatIsNotAnOlderKeyframeIsRefused) {
+  TKGSLAM_REQUIRE_SHARED();
+  const auto& saved = savedMap();
+  const CameraAndPyramid cp(saved.config);
+  // The first keyframe's record starts at byte 80 (marker, version, byte order, camera and pyramid,
+  // keyframe count); its parent follows id, frame id, timestamp, pose and flags, at byte 201.
+  constexpr size_t kFirstKeyFrame = 80, kParent = kFirstKeyFrame + 8 + 8 + 8 + 96 + 1;
+  int64_t id;
+  std::memcpy(&id, saved.bytes.data() + kFirstKeyFrame, 8);
+  std::string bytes = saved.bytes;
+  std::memcpy(bytes.data() + kParent, &id, 8);  // its own parent: walking up the tree would not end
+  data::Map map;
+  try {
+    io::deserializeMap(bytes, map, cp.camera, cp.pyramid);
+    ADD_FAILURE() << "a keyframe that is its own parent was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("has parent " + std::to_string(id) + ", not an older keyframe"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace tkgslam

@@ -107,7 +107,7 @@ class ByteReader {
 };
 
 // Fixed sizes of the records, for the counts' plausibility checks.
-constexpr size_t kKeypointBytes = 7 * 4 + 2 * 4 + 2 * 4 + 4 + kDescriptorBytes;  // without excluded/colour
+constexpr size_t kKeypointBytes = 7 * 4 + 2 * 4 + 2 * 4 + 1 + 3 + kDescriptorBytes;
 constexpr size_t kKeyFrameBytes = 8 + 8 + 8 + 12 * 8 + 1 + 8 + 8 + 4;
 constexpr size_t kObservationBytes = 8 + 4;
 constexpr size_t kMapPointBytes = 8 + 3 * 8 + kDescriptorBytes + 3 * 8 + 2 * 4 + 8 + 8 + 2 * 4 + 8;
@@ -189,8 +189,11 @@ KeyFrameRecord readKeyFrame(ByteReader& r, const camera::PinholeCamera& camera, 
   kf.frame_id = r.getId("keyframe frame id", -kMaxId);
   kf.timestamp = r.get<double>("keyframe timestamp");
   kf.T_cw = r.getPose("keyframe pose");
+  if (kf.T_cw.translation().cwiseAbs().maxCoeff() > 1e6) r.fail(fmt::format("keyframe {} lies too far away", kf.id));
   kf.not_erase = r.get<uint8_t>("keyframe flags") != 0;
   kf.parent = r.getId("keyframe parent", -1);
+  // The spanning tree points to older keyframes only (so walking up it ends).
+  if (kf.parent >= kf.id) r.fail(fmt::format("keyframe {} has parent {}, not an older keyframe", kf.id, kf.parent));
   auto F = std::make_shared<data::FrameFeatures>();
   F->sharpness = r.get<double>("keyframe sharpness");
   const auto n = r.get<uint32_t>("keypoint count");
@@ -258,6 +261,8 @@ std::shared_ptr<data::MapPoint> readMapPoint(ByteReader& r,
   const auto id = r.getId("point id");
   Vec3 pos;
   for (int k = 0; k < 3; ++k) pos[k] = r.get<double>("point position");
+  // (Projections of points that far would overflow pixel arithmetic.)
+  if (pos.cwiseAbs().maxCoeff() > 1e6) r.fail(fmt::format("point {} lies {} m away", id, pos.norm()));
   cv::Mat descriptor(1, kDescriptorBytes, CV_8U);
   r.getBytes(descriptor.data, kDescriptorBytes, "point descriptor");
   auto mp = std::make_shared<data::MapPoint>(id, pos, nullptr, descriptor);
@@ -366,7 +371,7 @@ size_t deserializeMap(std::string_view bytes, data::Map& map, const camera::Pinh
   long last_kf_id = -1, last_mp_id = -1;
   for (const auto& [id, kf] : keyframes) {
     const auto parent = keyframes.find(parents.at(id));
-    if (parent != keyframes.end() && parent->first != id) {
+    if (parent != keyframes.end()) {
       kf->parent = parent->second.get();
       parent->second->children.insert(kf.get());
     }
