@@ -44,10 +44,22 @@ struct RunOptions {
 std::atomic<bool> g_interrupted{false};
 extern "C" void onInterrupt(int) { g_interrupted = true; }
 
-/// A file's absolute path as a JSON string, or null for none.
+/// A file's absolute path as a JSON string (quotes, backslashes and control characters escaped),
+/// or null for none.
 std::string jsonPathOrNull(const std::string& path) {
   if (path.empty()) return "null";
-  return fmt::format("\"{}\"", std::filesystem::absolute(path).lexically_normal().string());
+  std::string out = "\"";
+  for (const char c : std::filesystem::absolute(path).lexically_normal().string()) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      out += fmt::format("\\u{:04x}", int(c));
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
 }
 
 void writeText(const std::filesystem::path& p, const std::string& text) {
@@ -277,14 +289,13 @@ int runSlam(const RunOptions& o) {
 
   const double ratio = n > 0 ? double(traj.size()) / n : 0.0;
   writeText(out / "run.json",
-            fmt::format("{{\"dataset\": \"{}\", \"config\": \"{}\", \"mode\": \"{}\", \"deterministic\": {}, "
+            fmt::format("{{\"dataset\": {}, \"config\": {}, \"mode\": \"{}\", \"deterministic\": {}, "
                         "\"frames\": {}, \"tracked\": {}, \"tracked_ratio\": {:.4f}, \"predicted\": {}, "
                         "\"interpolated_lost\": {}, \"blurred\": {}, \"skipped\": {}, "
                         "\"keyframes\": {}, \"keyframes_held\": {}, \"loops_closed\": {}, "
                         "\"map_points\": {}, \"mean_ms_per_frame\": {:.2f}, \"median_ms_per_frame\": {:.2f}, "
                         "\"ratio_threshold\": {}, \"start_frame\": {}, \"map_loaded\": {}, \"map_saved\": {}}}\n",
-                        std::filesystem::absolute(o.dataset).lexically_normal().string(),
-                        std::filesystem::absolute(o.config).lexically_normal().string(), toString(config.dynamic.mode),
+                        jsonPathOrNull(o.dataset), jsonPathOrNull(o.config), toString(config.dynamic.mode),
                         config.deterministic ? "true" : "false", n, traj.size(), ratio, predicted, interpolated, blurred, skipped,
                         slam.keyFrameCount(), slam.mappingStats().keyframes_held, slam.loopStats().closed,
                         slam.mapPointCount(), slam.timing().mean("total"), slam.timing().median("total"),

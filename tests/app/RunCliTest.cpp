@@ -129,5 +129,27 @@ TEST(RunCli, ASavedMapPutsTheNextRunInItsWorldFrame) {
   EXPECT_FALSE(std::filesystem::exists(tmp / "x"));
 }
 
+TEST(RunCli, RunJsonIsValidJsonWhateverThePathsHold) {
+  TKGSLAM_REQUIRE_SHARED();
+  if (std::system("python3 -c 'import json' > /dev/null 2>&1") != 0) GTEST_SKIP() << "python3 not found";
+  test::TempDir tmp;
+  // A quote and a backslash in the dataset's and the map's paths.
+  const auto data = tmp / "we\"ird\\seq";
+  std::filesystem::create_directory_symlink(test::fr1xyz(), data);
+  const auto map = tmp / "m\"ap.tkgmap";
+  std::string out;
+  ASSERT_EQ(test::runCli("run -q --deterministic --max-frames 3 -c " +
+                             (test::sourceDir() / "configs" / "tum_fr1.yaml").string() + " -d '" + data.string() +
+                             "' --save-map '" + map.string() + "' -o " + (tmp / "out").string(),
+                         &out),
+            0)
+      << out;
+  const std::string check = "python3 -c 'import json, sys; r = json.load(open(sys.argv[1])); "
+                            "sys.exit(0 if r[\"dataset\"] == sys.argv[2] and r[\"map_saved\"] == sys.argv[3] "
+                            "and r[\"map_loaded\"] is None else 1)' " +
+                            (tmp / "out" / "run.json").string() + " '" + data.string() + "' '" + map.string() + "'";
+  EXPECT_EQ(std::system(check.c_str()), 0) << test::readFile(tmp / "out" / "run.json");
+}
+
 }  // namespace
 }  // namespace tkgslam
