@@ -350,13 +350,11 @@ size_t deserializeMap(std::string_view bytes, data::Map& map, const camera::Pinh
   long last_frame = records.empty() ? 0 : records.front().frame_id;
   for (const auto& rec : records) last_frame = std::max(last_frame, rec.frame_id);
   std::map<long, std::shared_ptr<data::KeyFrame>> keyframes;
-  std::map<long, long> parents;
   for (auto& rec : records) {
     auto kf = std::make_shared<data::KeyFrame>(rec.id, rec.frame_id - last_frame - 1, rec.timestamp,
                                                std::move(rec.features), rec.T_cw);
     kf->not_erase = rec.not_erase;
     if (!keyframes.emplace(kf->id, kf).second) r.fail(fmt::format("keyframe id {} appears twice", kf->id));
-    parents[kf->id] = rec.parent;
   }
   std::map<long, std::shared_ptr<data::MapPoint>> points;
   const auto n_mp = r.getCount(kMapPointBytes, "point count");
@@ -368,22 +366,18 @@ size_t deserializeMap(std::string_view bytes, data::Map& map, const camera::Pinh
   r.getBytes(end, sizeof(end), "the end marker");
   if (std::memcmp(end, kEnd, sizeof(kEnd)) != 0 || r.remaining() != 0) r.fail("no end marker where the map ends");
 
-  long last_kf_id = -1, last_mp_id = -1;
-  for (const auto& [id, kf] : keyframes) {
-    const auto parent = keyframes.find(parents.at(id));
-    if (parent != keyframes.end()) {
-      kf->parent = parent->second.get();
-      parent->second->children.insert(kf.get());
-    }
-    map.addKeyFrame(kf);
-    last_kf_id = id;
+  for (const auto& rec : records) {
+    const auto parent = keyframes.find(rec.parent);
+    if (parent == keyframes.end()) continue;
+    auto& kf = *keyframes.at(rec.id);
+    kf.parent = parent->second.get();
+    parent->second->children.insert(&kf);
   }
-  for (const auto& [id, mp] : points) {
-    map.addMapPoint(mp);
-    last_mp_id = id;
-  }
+  for (const auto& [id, kf] : keyframes) map.addKeyFrame(kf);
+  for (const auto& [id, mp] : points) map.addMapPoint(mp);
   for (const auto& [id, kf] : keyframes) kf->updateConnections();
-  map.continueIdsAfter(last_kf_id, last_mp_id);
+  map.continueIdsAfter(keyframes.empty() ? -1 : keyframes.rbegin()->first,
+                       points.empty() ? -1 : points.rbegin()->first);
   return keyframes.size();
 }
 
