@@ -28,6 +28,7 @@ struct RunOptions {
   std::string config, dataset, out, mode, debug_dynamic;
   std::string load_map, save_map;  // map files (io/MapFile.h); empty: none
   int start_frame = 0;
+  bool localize = false;  // track in the loaded map without changing it
   bool deterministic = false;
   bool quiet = false;
   bool report = false;
@@ -148,6 +149,12 @@ int runSlam(const RunOptions& o) {
   if (o.start_frame >= dataset.size()) {
     throw InputError(fmt::format("--start-frame {}: the sequence has {} frames", o.start_frame, dataset.size()));
   }
+  if (o.localize && o.load_map.empty()) {
+    throw InputError("--localize tracks in a saved map: give it with --load-map");
+  }
+  if (o.localize && !o.save_map.empty()) {
+    throw InputError("--localize leaves the loaded map as it is: there is nothing new for --save-map to save");
+  }
   if (!o.save_map.empty()) {
     // Refused now, not after the run.
     const auto dir = std::filesystem::absolute(o.save_map).parent_path();
@@ -158,9 +165,9 @@ int runSlam(const RunOptions& o) {
 
   SlamSystem slam(config);
   if (!o.load_map.empty()) {
-    const size_t kfs = slam.loadMap(o.load_map);
-    std::printf("loaded map %s: %zu keyframes, %zu points; relocalising in it\n", o.load_map.c_str(), kfs,
-                slam.mapPointCount());
+    const size_t kfs = slam.loadMap(o.load_map, o.localize);
+    std::printf("loaded map %s: %zu keyframes, %zu points; relocalising in it%s\n", o.load_map.c_str(), kfs,
+                slam.mapPointCount(), o.localize ? " (localisation only: the map is not changed)" : "");
   }
   io::createOutputFolder(o.out);
   const std::filesystem::path out(o.out);
@@ -294,13 +301,13 @@ int runSlam(const RunOptions& o) {
                         "\"interpolated_lost\": {}, \"blurred\": {}, \"skipped\": {}, "
                         "\"keyframes\": {}, \"keyframes_held\": {}, \"loops_closed\": {}, "
                         "\"map_points\": {}, \"mean_ms_per_frame\": {:.2f}, \"median_ms_per_frame\": {:.2f}, "
-                        "\"ratio_threshold\": {}, \"start_frame\": {}, \"map_loaded\": {}, \"map_saved\": {}}}\n",
+                        "\"ratio_threshold\": {}, \"start_frame\": {}, \"map_loaded\": {}, \"map_saved\": {}, \"localization_only\": {}}}\n",
                         jsonPathOrNull(o.dataset), jsonPathOrNull(o.config), toString(config.dynamic.mode),
                         config.deterministic ? "true" : "false", n, traj.size(), ratio, predicted, interpolated, blurred, skipped,
                         slam.keyFrameCount(), slam.mappingStats().keyframes_held, slam.loopStats().closed,
                         slam.mapPointCount(), slam.timing().mean("total"), slam.timing().median("total"),
                         config.dynamic.geometry.ratio_threshold, first, jsonPathOrNull(o.load_map),
-                        jsonPathOrNull(o.save_map)));
+                        jsonPathOrNull(o.save_map), o.localize ? "true" : "false"));
   std::printf("frames %d, tracked %zu (%.2f %%; %d of them predicted, %d lost and then interpolated), blurred %d, "
               "skipped %d (unreadable), lost %d, keyframes %zu, map points %zu%s\n",
               n, traj.size(), 100.0 * ratio, predicted, interpolated, blurred, skipped, lost, slam.keyFrameCount(),
@@ -360,6 +367,9 @@ Action addRunCommand(CLI::App& app) {
                   "Start in a map saved by an earlier run (--save-map): relocalise in it and extend it; poses come out "
                   "in its world frame");
   cmd->add_option("--save-map", o->save_map, "Save the map at the end of the run to this file, for --load-map");
+  cmd->add_flag("--localize", o->localize,
+                "With --load-map: track in the loaded map without changing it (no keyframes or points of this run; "
+                "lost frames stay lost until it relocalises)");
   cmd->add_option("--loops", o->loops, "Play the sequence N times (soak test)")->check(positiveNumber());
   cmd->add_flag("-q,--quiet", o->quiet, "No progress lines");
   cmd->add_flag("--report", o->report, "Also write OUT/report.html (plots, 3-D view, timings)");

@@ -90,6 +90,13 @@ TEST(RunCli, ASavedMapPutsTheNextRunInItsWorldFrame) {
       << out;
   EXPECT_NE(out.find("relocalising in it"), std::string::npos) << out;
   ASSERT_EQ(test::runCli(run + " --start-frame 150 --max-frames 150 -o " + (tmp / "alone").string(), &out), 0) << out;
+  ASSERT_EQ(test::runCli(run + " --start-frame 150 --max-frames 150 --load-map " + map + " --localize -o " +
+                             (tmp / "localized").string(),
+                         &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("localisation only: the map is not changed"), std::string::npos) << out;
+  EXPECT_NE(test::readFile(tmp / "localized" / "run.json").find("\"localization_only\": true"), std::string::npos);
   EXPECT_NE(test::readFile(tmp / "second" / "run.json").find("\"start_frame\": 150, \"map_loaded\": \"" + map + "\""),
             std::string::npos);
 
@@ -103,12 +110,15 @@ TEST(RunCli, ASavedMapPutsTheNextRunInItsWorldFrame) {
     EXPECT_GE(joined.size(), 295u);
     return eval::computeAte(gt, joined).stats.rmse;
   };
-  EXPECT_LT(joined_ate("second"), 0.014);   // measured 0.0110
+  EXPECT_LT(joined_ate("second"), 0.014);     // measured 0.0110
+  EXPECT_LT(joined_ate("localized"), 0.014);  // measured 0.0108
   EXPECT_GT(joined_ate("alone"), 0.020);    // measured 0.0241
   // keyframes.txt lists this run's keyframes: the loaded ones are in the map, not in its trajectory.
   const auto kfs = io::readTumTrajectory((tmp / "second" / "keyframes.txt").string());
   ASSERT_FALSE(kfs.empty());
   EXPECT_GE(kfs.front().timestamp, first.back().timestamp);
+  // Localisation only: no keyframes of its own.
+  EXPECT_TRUE(io::readTumTrajectory((tmp / "localized" / "keyframes.txt").string()).empty());
 
   // A map from another camera, a file that is no map, a folder that is not there: refused before the run.
   EXPECT_EQ(test::runCli("run -q -c " + (test::sourceDir() / "configs" / "tum_fr2.yaml").string() + " -d " +
@@ -124,6 +134,13 @@ TEST(RunCli, ASavedMapPutsTheNextRunInItsWorldFrame) {
                          &out),
             2);
   EXPECT_NE(out.find("does not exist"), std::string::npos) << out;
+  EXPECT_EQ(test::runCli(run + " --localize -o " + (tmp / "x").string(), &out), 2);
+  EXPECT_NE(out.find("--localize tracks in a saved map: give it with --load-map"), std::string::npos) << out;
+  EXPECT_EQ(test::runCli(run + " --localize --load-map " + map + " --save-map " + (tmp / "again.tkgmap").string() +
+                             " -o " + (tmp / "x").string(),
+                         &out),
+            2);
+  EXPECT_NE(out.find("nothing new for --save-map to save"), std::string::npos) << out;
   EXPECT_EQ(test::runCli(run + " --start-frame 792 -o " + (tmp / "x").string(), &out), 2);
   EXPECT_NE(out.find("--start-frame 792: the sequence has 792 frames"), std::string::npos) << out;
   EXPECT_FALSE(std::filesystem::exists(tmp / "x"));

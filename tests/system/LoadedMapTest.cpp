@@ -45,9 +45,11 @@ class LoadedMap : public ::testing::Test {
     runFrames(first, 0, 60, false);
     first.saveMap((tmp_ / "map.tkgmap").string());
     saved_keyframes_ = first.keyFrameCount();
+    saved_points_ = first.mapPointCount();
   }
   test::TempDir tmp_;
   size_t saved_keyframes_ = 0;
+  size_t saved_points_ = 0;
 };
 
 TEST_F(LoadedMap, TheSameSceneIsFoundOnTheFirstFrame) {
@@ -81,6 +83,38 @@ TEST_F(LoadedMap, AMapTheCameraNeverSeesCostsAFewFramesThenANewSegment) {
   int tracked = 0;
   for (const auto& f : out) tracked += f.result.tracked;
   EXPECT_EQ(tracked, 40 - attempts);
+}
+
+TEST_F(LoadedMap, LocalizationOnlyTracksWithoutChangingTheMap) {
+  SlamSystem slam(orbConfig());
+  slam.loadMap((tmp_ / "map.tkgmap").string(), true);
+  const auto out = runFrames(slam, 60, 40, false);
+  ASSERT_EQ(out.size(), 40u);
+  int tracked = 0;
+  for (const auto& f : out) {
+    tracked += f.result.tracked;
+    EXPECT_FALSE(f.result.new_keyframe);
+  }
+  EXPECT_EQ(tracked, 40);
+  EXPECT_EQ(slam.keyFrameCount(), saved_keyframes_);
+  EXPECT_EQ(slam.mapPointCount(), saved_points_);
+  EXPECT_TRUE(slam.keyFrameTrajectory().empty());
+  EXPECT_EQ(slam.trajectory().size(), 40u);
+}
+
+TEST_F(LoadedMap, LocalizationOnlyKeepsRelocalisingInsteadOfStartingASegment) {
+  SlamSystem slam(orbConfig());
+  slam.loadMap((tmp_ / "map.tkgmap").string(), true);
+  auto out = runFrames(slam, 60, 20, true);
+  ASSERT_EQ(out.size(), 20u);
+  for (const auto& f : out) {
+    EXPECT_FALSE(f.result.tracked);
+    EXPECT_FALSE(f.result.new_segment);
+  }
+  EXPECT_EQ(slam.keyFrameCount(), saved_keyframes_);
+  EXPECT_EQ(slam.mapPointCount(), saved_points_);
+  // The camera comes back to the mapped scene: found again at once.
+  for (auto& f : runFrames(slam, 80, 10, false)) EXPECT_TRUE(f.result.tracked);
 }
 
 }  // namespace

@@ -272,11 +272,11 @@ std::vector<FrameOutcome> SlamSystem::finish() {
   return out;
 }
 
-size_t SlamSystem::loadMap(const std::string& path) {
+size_t SlamSystem::loadMap(const std::string& path, bool localization_only) {
   if (frames_ > 0) throw InputError("a map can only be loaded before the first frame");
   std::lock_guard<std::mutex> lock(map_.mutex());
   const size_t n = io::readMapFile(path, map_, camera_, extractor_.pyramid());
-  tracker_->startInLoadedMap();
+  tracker_->startInLoadedMap(localization_only);
   return n;
 }
 

@@ -80,7 +80,9 @@ class SlamSystem {
   /// become this run's map, and tracking first relocalises against them (Tracker::startInLoadedMap),
   /// so the poses come out in that map's world frame. Call before the first frame. Returns the
   /// number of keyframes read. Throws InputError (missing or corrupt file, another camera).
-  size_t loadMap(const std::string& path);
+  /// `localization_only`: the run tracks in the map without changing it (no keyframes, points or
+  /// segments of its own; local mapping and loop closing get nothing to do).
+  size_t loadMap(const std::string& path, bool localization_only = false);
   /// Saves the active map for a later run's loadMap (call after finish()). Throws InputError.
   void saveMap(const std::string& path) const;
 

@@ -134,7 +134,7 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     // (A blurred frame gets here after a long run of them: it becomes the frame to match against,
     // but still no keyframe.)
     // (Nor a frame tracked only by re-admitted keypoints: see above.)
-    if (!result.blurred && !rescued && needNewKeyFrame(frame, mapper_idle, mapper_queue)) {
+    if (!localization_only_ && !result.blurred && !rescued && needNewKeyFrame(frame, mapper_idle, mapper_queue)) {
       result.new_keyframe = createKeyFrame(frame);
     }
     if (result.new_keyframe && !anchor_candidates_.empty()) result.reanchored = reanchorSegment(frame);
@@ -187,7 +187,8 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     lost_timestamps_.clear();  // too long a gap to interpolate across
   }
   temporal_points_.clear();
-  if (lost_frames_ > cfg_.tracking.relocalization_attempts && !result.blurred && canInitialize(frame)) {
+  if (!localization_only_ && lost_frames_ > cfg_.tracking.relocalization_attempts && !result.blurred &&
+      canInitialize(frame)) {
     // Relocalisation keeps failing on a frame good enough to start a map: start a new map segment
     // where the camera was last seen. (On frames too poor to start one - the camera covered, no
     // depth - the old map is kept for relocalisation.)
@@ -577,9 +578,10 @@ std::shared_ptr<KeyFrame> Tracker::createKeyFrame(Frame& frame) {
   return kf;
 }
 
-void Tracker::startInLoadedMap() {
+void Tracker::startInLoadedMap(bool localization_only) {
   state_ = TrackingState::Lost;
   relocalize_in_whole_map_ = true;
+  localization_only_ = localization_only;
 }
 
 bool Tracker::relocalize(Frame& frame) {
@@ -600,7 +602,8 @@ bool Tracker::relocalize(Frame& frame) {
     if (discardOutliers(frame) < 15) continue;
     reference_kf_ = kf;
     if (!last_kf_) last_kf_ = kf;
-    relocalize_in_whole_map_ = false;
+    // (Localisation only: the map is the loaded one, and all of it stays the place to look.)
+    relocalize_in_whole_map_ = localization_only_;
     last_reloc_frame_ = frame.id;
     spdlog::info("relocalised at frame {} against keyframe {}", frame.id, kf->id);
     return true;

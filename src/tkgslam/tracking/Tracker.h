@@ -81,8 +81,10 @@ class Tracker {
   /// finds the camera, so this run's poses come out in that map's world frame. If it keeps
   /// failing, a new map segment starts as after any loss (at the identity: no pose is known),
   /// re-anchored to the loaded map's last keyframes once it sees what they saw. Call before the
-  /// first frame.
-  void startInLoadedMap();
+  /// first frame. `localization_only`: the map is only tracked against, never changed - no
+  /// keyframes, no map points, no new segment when lost; lost frames keep relocalising against
+  /// all of its keyframes until the camera is found again.
+  void startInLoadedMap(bool localization_only = false);
   /// An image of this sharpness (feature::imageSharpness) would count as motion-blurred now
   /// (TrackingParams::blur_ratio of the recent sharp frames' median). Call from the tracking thread.
   bool looksBlurred(double sharpness) const;
@@ -151,6 +153,7 @@ class Tracker {
   bool has_velocity_ = false;
   long last_reloc_frame_ = -1000;
   bool relocalize_in_whole_map_ = false;  ///< see startInLoadedMap()
+  bool localization_only_ = false;        ///< see startInLoadedMap()
   int lost_frames_ = 0;
   /// Timestamps of the frames lost since the last tracked one, while relocalisation may still
   /// find the camera soon enough for them to be interpolated (at most relocalization_attempts).
