@@ -65,8 +65,13 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
   if (ok) ok = trackLocalMap(frame);
   if (refine && state_ == TrackingState::Ok && (ok || has_velocity_)) {
     // The geometry check needs a pose: the tracked one, or - when the keypoints outside the boxes
-    // were too few to track - the motion model's prediction. Keypoints it finds static are then
-    // matched too, those it finds dynamic no longer.
+    // were too few to track - the motion model's prediction. Keypoints it finds dynamic lose their
+    // matches. Those it finds static are matched when the frame was not tracked yet (the motion
+    // model's search includes them); on a frame already tracked, the second local-map pass finds
+    // every local point marked by the first and only refines the pose without the dynamic ones, so
+    // the re-admitted keypoints serve the keyframe's new points, not this pose. Searching the local
+    // map again for them made the extreme composites far worse (TKGt extreme 0.0373 -> 0.1734 m;
+    // bench/results/rematch_readmitted_300.md).
     if (!ok) frame.T_cw = predictPose();
     if (refine(frame, local_keyframes_) > 0) {
       // Keypoints it found dynamic lose their matches.
