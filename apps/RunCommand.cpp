@@ -347,6 +347,11 @@ int runSlam(const RunOptions& o) {
     // Outputs are written (frame_log.txt says why each frame failed), but an empty trajectory is no result.
     throw InputError(fmt::format("no frame could be read ({} tried; see {}/frame_log.txt)", skipped, o.out));
   }
+  if (o.localize && traj.empty() && processed > 0 && !g_interrupted) {
+    // Nothing to show for the run: most likely a map of another place (or another sequence's camera).
+    throw InputError(fmt::format("--localize: the camera was not found in the map '{}' on any of the {} frames",
+                                 o.load_map, processed));
+  }
   return g_interrupted ? 130 : 0;
 }
 

@@ -1,11 +1,16 @@
 // tkgslam run's outputs as a user relies on them.
 #include <filesystem>
+#include <fstream>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "TestSupport.h"
 #include "tkgslam/eval/Ate.h"
 #include "tkgslam/io/TrajectoryFile.h"
+#include "tkgslam/io/TumDataset.h"
 
 namespace tkgslam {
 namespace {
@@ -134,6 +139,36 @@ TEST(RunCli, ASavedMapPutsTheNextRunInItsWorldFrame) {
                          &out),
             2);
   EXPECT_NE(out.find("does not exist"), std::string::npos) << out;
+  // Localising in a map of another place: the outputs are written, but the run is a failure.
+  // (Mirrored frames: ORB descriptors are not mirror-invariant, so nothing matches the map.)
+  const auto mirrored = tmp / "mirrored";
+  std::filesystem::create_directories(mirrored / "rgb");
+  std::filesystem::create_directories(mirrored / "depth");
+  {
+    const io::TumDataset source(test::fr1xyz().string());
+    std::ofstream rgb(mirrored / "rgb.txt"), depth(mirrored / "depth.txt");
+    for (int i = 0; i < 8; ++i) {
+      const std::string stamp = fmt::format("{:.6f}", source.timestamp(i));
+      const auto images = source.load(i);
+      cv::Mat bgr, depth_mm;
+      cv::flip(images.bgr, bgr, 1);
+      cv::flip(images.depth_m * 5000.0, depth_mm, 1);  // the TUM depth factor
+      depth_mm.convertTo(depth_mm, CV_16U);
+      cv::imwrite((mirrored / "rgb" / (stamp + ".png")).string(), bgr);
+      cv::imwrite((mirrored / "depth" / (stamp + ".png")).string(), depth_mm);
+      rgb << stamp << " rgb/" << stamp << ".png\n";
+      depth << stamp << " depth/" << stamp << ".png\n";
+    }
+  }
+  EXPECT_EQ(test::runCli("run --deterministic -q --mode orb -c " +
+                             (test::sourceDir() / "configs" / "tum_fr1.yaml").string() + " -d " + mirrored.string() +
+                             " --localize --load-map " + map + " -o " + (tmp / "nowhere_found").string(),
+                         &out),
+            2);
+  EXPECT_NE(out.find("the camera was not found in the map '" + map + "' on any of the 8 frames"), std::string::npos)
+      << out;
+  EXPECT_TRUE(std::filesystem::exists(tmp / "nowhere_found" / "frame_log.txt"));
+
   EXPECT_EQ(test::runCli(run + " --localize -o " + (tmp / "x").string(), &out), 2);
   EXPECT_NE(out.find("--localize tracks in a saved map: give it with --load-map"), std::string::npos) << out;
   EXPECT_EQ(test::runCli(run + " --localize --load-map " + map + " --save-map " + (tmp / "again.tkgmap").string() +
