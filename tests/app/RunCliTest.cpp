@@ -117,7 +117,7 @@ TEST(RunCli, ASavedMapPutsTheNextRunInItsWorldFrame) {
   };
   EXPECT_LT(joined_ate("second"), 0.014);     // measured 0.0110
   EXPECT_LT(joined_ate("localized"), 0.014);  // measured 0.0118
-  EXPECT_GT(joined_ate("alone"), 0.020);    // measured 0.0241
+  EXPECT_GT(joined_ate("alone"), 0.020);      // measured 0.0241
   // keyframes.txt lists this run's keyframes: the loaded ones are in the map, not in its trajectory.
   const auto kfs = io::readTumTrajectory((tmp / "second" / "keyframes.txt").string());
   ASSERT_FALSE(kfs.empty());
