@@ -1,16 +1,12 @@
 // tkgslam run's outputs as a user relies on them.
 #include <filesystem>
-#include <fstream>
 
-#include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
+#include "FaultySequence.h"
 #include "TestSupport.h"
 #include "tkgslam/eval/Ate.h"
 #include "tkgslam/io/TrajectoryFile.h"
-#include "tkgslam/io/TumDataset.h"
 
 namespace tkgslam {
 namespace {
@@ -142,24 +138,8 @@ TEST(RunCli, ASavedMapPutsTheNextRunInItsWorldFrame) {
   // Localising in a map of another place: the outputs are written, but the run is a failure.
   // (Mirrored frames: ORB descriptors are not mirror-invariant, so nothing matches the map.)
   const auto mirrored = tmp / "mirrored";
-  std::filesystem::create_directories(mirrored / "rgb");
-  std::filesystem::create_directories(mirrored / "depth");
-  {
-    const io::TumDataset source(test::fr1xyz().string());
-    std::ofstream rgb(mirrored / "rgb.txt"), depth(mirrored / "depth.txt");
-    for (int i = 0; i < 8; ++i) {
-      const std::string stamp = fmt::format("{:.6f}", source.timestamp(i));
-      const auto images = source.load(i);
-      cv::Mat bgr, depth_mm;
-      cv::flip(images.bgr, bgr, 1);
-      cv::flip(images.depth_m * 5000.0, depth_mm, 1);  // the TUM depth factor
-      depth_mm.convertTo(depth_mm, CV_16U);
-      cv::imwrite((mirrored / "rgb" / (stamp + ".png")).string(), bgr);
-      cv::imwrite((mirrored / "depth" / (stamp + ".png")).string(), depth_mm);
-      rgb << stamp << " rgb/" << stamp << ".png\n";
-      depth << stamp << " depth/" << stamp << ".png\n";
-    }
-  }
+  const auto mirror = [](int) { return test::FrameFault::Mirrored; };
+  test::writeFaultySequence(mirrored, 8, [](int) { return false; }, mirror, mirror);
   EXPECT_EQ(test::runCli("run --deterministic -q --mode orb -c " +
                              (test::sourceDir() / "configs" / "tum_fr1.yaml").string() + " -d " + mirrored.string() +
                              " --localize --load-map " + map + " -o " + (tmp / "nowhere_found").string(),
