@@ -27,6 +27,7 @@ namespace {
 struct RunOptions {
   std::string config, dataset, out, mode, debug_dynamic;
   std::string load_map, save_map;  // map files (io/MapFile.h); empty: none
+  std::string associations;        // association file instead of rgb.txt / depth.txt; empty: none
   int start_frame = 0;
   bool localize = false;  // track in the loaded map without changing it
   bool deterministic = false;
@@ -145,7 +146,9 @@ int runSlam(const RunOptions& o) {
   dopt.expected_width = config.camera.width;
   dopt.expected_height = config.camera.height;
   dopt.loops = o.loops;
+  dopt.associations = o.associations;
   io::TumDataset dataset(o.dataset, dopt);
+  if (!dataset.associationFile().empty()) spdlog::info("RGB-D pairs from '{}'", dataset.associationFile());
   if (o.start_frame >= dataset.size()) {
     throw InputError(fmt::format("--start-frame {}: the sequence has {} frames", o.start_frame, dataset.size()));
   }
@@ -301,13 +304,15 @@ int runSlam(const RunOptions& o) {
                         "\"interpolated_lost\": {}, \"blurred\": {}, \"skipped\": {}, "
                         "\"keyframes\": {}, \"keyframes_held\": {}, \"loops_closed\": {}, "
                         "\"map_points\": {}, \"mean_ms_per_frame\": {:.2f}, \"median_ms_per_frame\": {:.2f}, "
-                        "\"ratio_threshold\": {}, \"start_frame\": {}, \"map_loaded\": {}, \"map_saved\": {}, \"localization_only\": {}}}\n",
+                        "\"ratio_threshold\": {}, \"start_frame\": {}, \"map_loaded\": {}, \"map_saved\": {}, \"localization_only\": {}, "
+                        "\"associations\": {}}}\n",
                         jsonPathOrNull(o.dataset), jsonPathOrNull(o.config), toString(config.dynamic.mode),
                         config.deterministic ? "true" : "false", n, traj.size(), ratio, predicted, interpolated, blurred, skipped,
                         slam.keyFrameCount(), slam.mappingStats().keyframes_held, slam.loopStats().closed,
                         slam.mapPointCount(), slam.timing().mean("total"), slam.timing().median("total"),
                         config.dynamic.geometry.ratio_threshold, first, jsonPathOrNull(o.load_map),
-                        jsonPathOrNull(o.save_map), o.localize ? "true" : "false"));
+                        jsonPathOrNull(o.save_map), o.localize ? "true" : "false",
+                        jsonPathOrNull(dataset.associationFile())));
   std::printf("frames %d, tracked %zu (%.2f %%; %d of them predicted, %d lost and then interpolated), blurred %d, "
               "skipped %d (unreadable), lost %d, keyframes %zu, map points %zu%s\n",
               n, traj.size(), 100.0 * ratio, predicted, interpolated, blurred, skipped, lost, slam.keyFrameCount(),
@@ -361,7 +366,12 @@ Action addRunCommand(CLI::App& app) {
   auto o = std::make_shared<RunOptions>();
   auto* cmd = app.add_subcommand("run", "Run RGB-D SLAM on a TUM-layout sequence");
   cmd->add_option("-c,--config", o->config, "Camera/system YAML config (see configs/)")->required();
-  cmd->add_option("-d,--dataset", o->dataset, "Sequence folder with rgb.txt and depth.txt")->required();
+  cmd->add_option("-d,--dataset", o->dataset,
+                  "Sequence folder with rgb.txt and depth.txt (or see --associations)")
+      ->required();
+  cmd->add_option("--associations", o->associations,
+                  "Take the RGB-D pairs from this association file (ORB-SLAM2's, associate.py's: 'timestamp file "
+                  "timestamp file' per line, names relative to --dataset) instead of rgb.txt and depth.txt");
   cmd->add_option("-o,--out", o->out, "Output folder")->required();
   cmd->add_flag("--deterministic", o->deterministic,
                 "Same input, same trajectory bit for bit (mapping runs in step with tracking)");

@@ -19,7 +19,7 @@
 namespace tkgslam::fuzz {
 
 /// rgb.txt and depth.txt in one input, split at the first NUL byte (absent: the same text twice),
-/// parsed and associated as TumDataset does.
+/// parsed and associated as TumDataset does; and the whole input as an association file.
 inline void fuzzTumLists(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   const auto split = text.find('\0');
@@ -38,6 +38,14 @@ inline void fuzzTumLists(const std::uint8_t* data, std::size_t size) {
       }
     }
     if (!a.empty()) (void)eval::findClosestIndex(a, b.empty() ? 0.0 : b.front());
+  } catch (const InputError&) {
+  }
+  try {
+    std::istringstream in(text);
+    const auto lines = io::parseAssociationFile(in, "associations.txt");
+    for (size_t k = 1; k < lines.size(); ++k) {
+      if (!(lines[k].first.timestamp > lines[k - 1].first.timestamp)) __builtin_trap();  // promised increasing
+    }
   } catch (const InputError&) {
   }
 }

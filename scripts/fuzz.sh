@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fuzzes the parsers that read user files (TUM image lists + association, TUM trajectories,
+# Fuzzes the parsers that read user files (TUM image lists + association, association files, TUM trajectories,
 # YAML configs, map files) with libFuzzer + ASan + UBSan (+ LeakSanitizer), using Debian's clang.
 #   scripts/fuzz.sh          # 600 s per target (the issue-7 soak; ~30 min in all)
 #   scripts/fuzz.sh 30       # the short run CI does

@@ -1,5 +1,8 @@
 // tkgslam run's outputs as a user relies on them.
+#include <algorithm>
 #include <filesystem>
+
+#include <fmt/format.h>
 
 #include <gtest/gtest.h>
 
@@ -7,6 +10,7 @@
 #include "TestSupport.h"
 #include "tkgslam/eval/Ate.h"
 #include "tkgslam/io/TrajectoryFile.h"
+#include "tkgslam/io/TumDataset.h"
 
 namespace tkgslam {
 namespace {
@@ -159,6 +163,40 @@ TEST(RunCli, ASavedMapPutsTheNextRunInItsWorldFrame) {
   EXPECT_EQ(test::runCli(run + " --start-frame 792 -o " + (tmp / "x").string(), &out), 2);
   EXPECT_NE(out.find("--start-frame 792: the sequence has 792 frames"), std::string::npos) << out;
   EXPECT_FALSE(std::filesystem::exists(tmp / "x"));
+}
+
+// ORB-SLAM2 users have association files: the same pairs from one give the same run.
+TEST(RunCli, AnAssociationFileGivesTheSameRunAsTheLists) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  const auto dir = test::fr1xyz();
+  const io::TumDataset lists(dir.string());
+  std::string text;  // associate.py's output: rgb first, names relative to the sequence folder
+  for (int i = 0; i < 40; ++i) {
+    const auto& e = lists.entry(i);
+    text += fmt::format("{:.6f} {} {:.6f} {}\n", e.rgb_timestamp,
+                        std::filesystem::path(e.rgb_path).lexically_relative(dir).string(), e.depth_timestamp,
+                        std::filesystem::path(e.depth_path).lexically_relative(dir).string());
+  }
+  test::writeText(tmp / "associations.txt", text);
+  const std::string run = "run --deterministic -q --mode orb --max-frames 30 -c " +
+                          (test::sourceDir() / "configs" / "tum_fr1.yaml").string() + " -d " + dir.string();
+  std::string out;
+  ASSERT_EQ(test::runCli(run + " -o " + (tmp / "lists").string(), &out), 0) << out;
+  ASSERT_EQ(test::runCli(run + " --associations " + (tmp / "associations.txt").string() + " -o " +
+                             (tmp / "pairs").string(),
+                         &out),
+            0)
+      << out;
+  const std::string traj = test::readFile(tmp / "pairs" / "trajectory.txt");
+  EXPECT_EQ(std::count(traj.begin(), traj.end(), '\n'), 31);  // a header line, 30 poses
+  EXPECT_EQ(traj, test::readFile(tmp / "lists" / "trajectory.txt"));
+  EXPECT_NE(test::readFile(tmp / "pairs" / "run.json").find("\"associations\": \"" + (tmp / "associations.txt").string()),
+            std::string::npos);
+  EXPECT_NE(test::readFile(tmp / "lists" / "run.json").find("\"associations\": null"), std::string::npos);
+  EXPECT_EQ(test::runCli(run + " --associations " + (tmp / "none.txt").string() + " -o " + (tmp / "x").string(), &out),
+            2);
+  EXPECT_NE(out.find("none.txt' does not exist"), std::string::npos) << out;
 }
 
 TEST(RunCli, RunJsonIsValidJsonWhateverThePathsHold) {

@@ -1,3 +1,4 @@
+#include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include <gtest/gtest.h>
@@ -156,6 +157,84 @@ TEST(TumDataset, EmptyAssociation) {
   writeText(tmp / "depth.txt", "200.0 depth/100.010000.png\n");
   const auto msg = errorOf([&] { io::TumDataset(tmp.path().string()); });
   EXPECT_NE(msg.find("no RGB image"), std::string::npos) << msg;
+}
+
+// ORB-SLAM2's RGB-D example reads the pairs from an association file (associate.py's output, with
+// whichever list it was given first in the first column).
+std::string associationText(const io::TumDataset& ds, bool depth_first) {
+  std::string text = "# written by associate.py\n";
+  for (int i = 0; i < ds.size(); ++i) {
+    const auto& e = ds.entry(i);
+    const std::string rgb = fmt::format("{:.6f} rgb/{}", e.rgb_timestamp, std::filesystem::path(e.rgb_path).filename().string());
+    const std::string depth =
+        fmt::format("{:.6f} depth/{}", e.depth_timestamp, std::filesystem::path(e.depth_path).filename().string());
+    text += depth_first ? depth + " " + rgb + "\n" : rgb + " " + depth + "\n";
+  }
+  return text;
+}
+
+TEST(TumDataset, AnAssociationFileGivesTheListsPairsInEitherColumnOrder) {
+  TempDir tmp;
+  makeDataset(tmp.path());
+  const io::TumDataset lists(tmp.path().string());
+  EXPECT_TRUE(lists.associationFile().empty());
+  for (const bool depth_first : {false, true}) {
+    SCOPED_TRACE(depth_first ? "depth first" : "rgb first");
+    writeText(tmp / "pairs.txt", associationText(lists, depth_first));
+    io::TumDatasetOptions o;
+    o.associations = (tmp / "pairs.txt").string();
+    const io::TumDataset ds(tmp.path().string(), o);
+    EXPECT_EQ(ds.associationFile(), o.associations);
+    ASSERT_EQ(ds.size(), lists.size());
+    for (int i = 0; i < ds.size(); ++i) {
+      EXPECT_DOUBLE_EQ(ds.timestamp(i), lists.timestamp(i));
+      EXPECT_DOUBLE_EQ(ds.entry(i).depth_timestamp, lists.entry(i).depth_timestamp);
+      EXPECT_EQ(ds.entry(i).rgb_path, lists.entry(i).rgb_path);
+      EXPECT_EQ(ds.entry(i).depth_path, lists.entry(i).depth_path);
+    }
+    EXPECT_FLOAT_EQ(ds.load(2).depth_m.at<float>(10, 10), 1.0f);
+  }
+}
+
+TEST(TumDataset, AssociationFileErrorsNameTheFileAndLine) {
+  TempDir tmp;
+  makeDataset(tmp.path());
+  const auto open = [&](const std::string& text) {
+    writeText(tmp / "pairs.txt", text);
+    io::TumDatasetOptions o;
+    o.associations = (tmp / "pairs.txt").string();
+    return errorOf([&] { io::TumDataset(tmp.path().string(), o); });
+  };
+  const std::string l0 = "100.0 rgb/100.000000.jpg 100.01 depth/100.010000.png\n";
+  const std::string l1 = "101.0 rgb/101.000000.jpg 101.01 depth/101.010000.png\n";
+  std::string msg = open(l0 + "101.0 rgb/101.000000.jpg 101.01\n");
+  EXPECT_NE(msg.find("pairs.txt:2: expected 'timestamp filename timestamp filename'"), std::string::npos) << msg;
+  msg = open(l0 + "abc rgb/101.000000.jpg 101.01 depth/101.010000.png\n");
+  EXPECT_NE(msg.find("pairs.txt:2: malformed timestamp 'abc'"), std::string::npos) << msg;
+  msg = open(l1 + l0);
+  EXPECT_NE(msg.find("pairs.txt:2: timestamp 100.0 is not after"), std::string::npos) << msg;
+  msg = open(l0 + "101.0 rgb/101.000000.jpg 101.01 depth/nowhere.png\n");
+  EXPECT_NE(msg.find("pairs.txt:2: image"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("nowhere.png' does not exist"), std::string::npos) << msg;
+  msg = open("100.0 rgb/100.000000.jpg 101.0 rgb/101.000000.jpg\n");
+  EXPECT_NE(msg.find("cannot tell the depth image from the colour one"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("neither"), std::string::npos) << msg;
+  msg = open("100.01 depth/100.010000.png 101.01 depth/101.010000.png\n");
+  EXPECT_NE(msg.find("both"), std::string::npos) << msg;
+  // Depth first: the colour timestamps (the frames') must increase too.
+  msg = open("100.01 depth/100.010000.png 101.0 rgb/101.000000.jpg\n101.01 depth/101.010000.png 100.0 rgb/100.000000.jpg\n");
+  EXPECT_NE(msg.find("pairs.txt:2: colour timestamp 100 is not after"), std::string::npos) << msg;
+  msg = open("# nothing\n");
+  EXPECT_NE(msg.find("has no entries"), std::string::npos) << msg;
+  io::TumDatasetOptions o;
+  o.associations = (tmp / "absent.txt").string();
+  msg = errorOf([&] { io::TumDataset(tmp.path().string(), o); });
+  EXPECT_NE(msg.find("absent.txt' does not exist"), std::string::npos) << msg;
+  // Without the lists and without an association file, the error says what else would do.
+  std::filesystem::remove(tmp / "rgb.txt");
+  msg = errorOf([&] { io::TumDataset(tmp.path().string()); });
+  EXPECT_NE(msg.find("missing image list"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("--associations"), std::string::npos) << msg;
 }
 
 TEST(TumDataset, RealFr1XyzSequence) {

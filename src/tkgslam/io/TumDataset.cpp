@@ -16,6 +16,25 @@ namespace fs = std::filesystem;
 
 namespace tkgslam::io {
 
+namespace {
+
+double parseTimestamp(const std::string& token, const std::string& source, int line_no) {
+  double t = 0;
+  if (!parseDouble(token, t) || t < 0) {
+    throw InputError(fmt::format("{}:{}: malformed timestamp '{}'", source, line_no, token));
+  }
+  return t;
+}
+
+void requireAfter(double t, const std::string& token, double previous, const std::string& source, int line_no) {
+  if (t <= previous) {
+    throw InputError(fmt::format("{}:{}: timestamp {} is not after the previous one ({}); timestamps must increase",
+                                 source, line_no, token, previous));
+  }
+}
+
+}  // namespace
+
 std::vector<ListEntry> parseTumImageList(std::istream& in, const std::string& source) {
   std::vector<ListEntry> out;
   std::string line;
@@ -28,16 +47,32 @@ std::vector<ListEntry> parseTumImageList(std::istream& in, const std::string& so
       throw InputError(fmt::format("{}:{}: expected 'timestamp filename', got '{}'", source, line_no, line));
     }
     ListEntry e;
-    if (!parseDouble(fields[0], e.timestamp) || e.timestamp < 0) {
-      throw InputError(fmt::format("{}:{}: malformed timestamp '{}'", source, line_no, fields[0]));
-    }
-    if (!out.empty() && e.timestamp <= out.back().timestamp) {
-      throw InputError(fmt::format("{}:{}: timestamp {} is not after the previous one ({}); "
-                                   "timestamps must increase",
-                                   source, line_no, fields[0], out.back().timestamp));
-    }
+    e.timestamp = parseTimestamp(fields[0], source, line_no);
+    if (!out.empty()) requireAfter(e.timestamp, fields[0], out.back().timestamp, source, line_no);
     e.file = fields[1];
     out.push_back(std::move(e));
+  }
+  return out;
+}
+
+std::vector<AssociationLine> parseAssociationFile(std::istream& in, const std::string& source) {
+  std::vector<AssociationLine> out;
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (isCommentOrBlank(line)) continue;
+    const auto fields = splitFields(line);
+    if (fields.size() < 4) {
+      throw InputError(fmt::format("{}:{}: expected 'timestamp filename timestamp filename', got '{}'", source,
+                                   line_no, line));
+    }
+    AssociationLine a;
+    a.line = line_no;
+    a.first = {parseTimestamp(fields[0], source, line_no), fields[1]};
+    a.second = {parseTimestamp(fields[2], source, line_no), fields[3]};
+    if (!out.empty()) requireAfter(a.first.timestamp, fields[0], out.back().first.timestamp, source, line_no);
+    out.push_back(std::move(a));
   }
   return out;
 }
@@ -46,7 +81,8 @@ namespace {
 
 std::vector<ListEntry> readList(const fs::path& path) {
   if (!fs::is_regular_file(path)) {
-    throw InputError(fmt::format("missing image list '{}' (a TUM sequence has rgb.txt and depth.txt)",
+    throw InputError(fmt::format("missing image list '{}' (a TUM sequence has rgb.txt and depth.txt; or give "
+                                 "an association file with --associations)",
                                  path.string()));
   }
   std::ifstream in(path);
@@ -63,6 +99,13 @@ std::vector<double> stamps(const std::vector<ListEntry>& list) {
   return s;
 }
 
+/// A depth image: single-channel 16-bit (or 32-bit float metres). Throws for an unreadable file.
+bool isDepthImage(const std::string& path) {
+  const cv::Mat m = cv::imread(path, cv::IMREAD_UNCHANGED);
+  if (m.empty()) throw InputError(fmt::format("cannot read image '{}'", path));
+  return m.channels() == 1 && (m.depth() == CV_16U || m.depth() == CV_32F);
+}
+
 }  // namespace
 
 TumDataset::TumDataset(const std::string& directory, TumDatasetOptions options)
@@ -71,27 +114,11 @@ TumDataset::TumDataset(const std::string& directory, TumDatasetOptions options)
   if (options_.loops < 1) throw InputError("loops must be >= 1");
   const fs::path dir(directory);
   if (!fs::is_directory(dir)) throw InputError(fmt::format("dataset folder '{}' does not exist", directory));
-  const auto rgb = readList(dir / "rgb.txt");
-  const auto depth = readList(dir / "depth.txt");
-  const auto pairs = eval::associateTimestamps(stamps(rgb), stamps(depth), options_.max_time_difference);
-  if (pairs.empty()) {
-    throw InputError(fmt::format("no RGB image in '{}' has a depth image within {} s; "
-                                 "check rgb.txt and depth.txt",
-                                 directory, options_.max_time_difference));
-  }
-  for (const auto& [i, j] : pairs) {
-    RgbdEntry e;
-    e.rgb_timestamp = rgb[i].timestamp;
-    e.depth_timestamp = depth[j].timestamp;
-    e.rgb_path = (dir / rgb[i].file).string();
-    e.depth_path = (dir / depth[j].file).string();
-    for (const auto* p : {&e.rgb_path, &e.depth_path}) {
-      if (!fs::is_regular_file(*p)) {
-        throw InputError(fmt::format("listed image '{}' does not exist ({})", *p,
-                                     p == &e.rgb_path ? "rgb.txt" : "depth.txt"));
-      }
-    }
-    entries_.push_back(std::move(e));
+  association_file_ = options_.associations;
+  if (association_file_.empty()) {
+    associateLists();
+  } else {
+    readAssociationFile();
   }
   if (options_.expected_width > 0) {
     // A camera config for another sensor fails every frame: say so once, here, rather than skipping
@@ -107,6 +134,71 @@ TumDataset::TumDataset(const std::string& directory, TumDatasetOptions options)
   has_masks_ = fs::is_directory(dir / "masks");
   const double span = entries_.back().rgb_timestamp - entries_.front().rgb_timestamp;
   loop_period_ = span + (entries_.size() > 1 ? span / double(entries_.size() - 1) : 1.0);
+}
+
+void TumDataset::associateLists() {
+  const fs::path dir(directory_);
+  const auto rgb = readList(dir / "rgb.txt");
+  const auto depth = readList(dir / "depth.txt");
+  const auto pairs = eval::associateTimestamps(stamps(rgb), stamps(depth), options_.max_time_difference);
+  if (pairs.empty()) {
+    throw InputError(fmt::format("no RGB image in '{}' has a depth image within {} s; "
+                                 "check rgb.txt and depth.txt",
+                                 directory_, options_.max_time_difference));
+  }
+  for (const auto& [i, j] : pairs) {
+    RgbdEntry e;
+    e.rgb_timestamp = rgb[i].timestamp;
+    e.depth_timestamp = depth[j].timestamp;
+    e.rgb_path = (dir / rgb[i].file).string();
+    e.depth_path = (dir / depth[j].file).string();
+    for (const auto* p : {&e.rgb_path, &e.depth_path}) {
+      if (!fs::is_regular_file(*p)) {
+        throw InputError(fmt::format("listed image '{}' does not exist ({})", *p,
+                                     p == &e.rgb_path ? "rgb.txt" : "depth.txt"));
+      }
+    }
+    entries_.push_back(std::move(e));
+  }
+}
+
+void TumDataset::readAssociationFile() {
+  const std::string& file = association_file_;
+  if (!fs::is_regular_file(file)) throw InputError(fmt::format("association file '{}' does not exist", file));
+  std::ifstream in(file);
+  if (!in) throw InputError(fmt::format("cannot read association file '{}'", file));
+  const auto lines = parseAssociationFile(in, file);
+  if (lines.empty()) throw InputError(fmt::format("association file '{}' has no entries", file));
+  // Names are relative to the sequence folder, as ORB-SLAM2 reads them (absolute ones stay).
+  const fs::path dir(directory_);
+  const auto path = [&](const ListEntry& e) { return (dir / e.file).string(); };
+  for (const auto& l : lines) {
+    for (const auto* e : {&l.first, &l.second}) {
+      if (!fs::is_regular_file(path(*e))) {
+        throw InputError(fmt::format("{}:{}: image '{}' does not exist", file, l.line, path(*e)));
+      }
+    }
+  }
+  // associate.py writes the list given first in the first column (RGB in ORB-SLAM2's examples, but
+  // either is common): the images say which is which.
+  const bool first_is_depth = isDepthImage(path(lines[0].first));
+  if (first_is_depth == isDepthImage(path(lines[0].second))) {
+    throw InputError(fmt::format("{}:{}: cannot tell the depth image from the colour one: '{}' and '{}' are {} "
+                                 "single-channel 16-bit images",
+                                 file, lines[0].line, path(lines[0].first), path(lines[0].second),
+                                 first_is_depth ? "both" : "neither"));
+  }
+  for (const auto& l : lines) {
+    const ListEntry& rgb = first_is_depth ? l.second : l.first;
+    const ListEntry& depth = first_is_depth ? l.first : l.second;
+    // The frames' timestamps are the colour images'; the parser checked the first column only.
+    if (!entries_.empty() && rgb.timestamp <= entries_.back().rgb_timestamp) {
+      throw InputError(fmt::format("{}:{}: colour timestamp {} is not after the previous one ({}); timestamps must "
+                                   "increase",
+                                   file, l.line, rgb.timestamp, entries_.back().rgb_timestamp));
+    }
+    entries_.push_back({rgb.timestamp, depth.timestamp, path(rgb), path(depth)});
+  }
 }
 
 bool TumDataset::fitsCamera(const cv::Size& image) const {

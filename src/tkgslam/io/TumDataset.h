@@ -3,7 +3,11 @@
 //   DIR/rgb.txt, DIR/depth.txt   "timestamp filename" lists ('#' comments), names relative to DIR
 //   DIR/groundtruth.txt          optional, TUM trajectory
 // RGB and depth are associated with the TUM rule (|t_rgb - t_depth| < 0.02 s, greedy by smallest
-// difference). Images are loaded lazily, one frame at a time.
+// difference). Or the pairs come from an association file as ORB-SLAM2's RGB-D example reads it
+// ("timestamp file timestamp file" per line, as the TUM tools' associate.py writes it): the pairs
+// as listed, names relative to DIR, either column order (associate.py writes the list it is given
+// first in the first column; the 16-bit single-channel image of the first pair is the depth).
+// Images are loaded lazily, one frame at a time.
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,6 +22,8 @@ struct TumDatasetOptions {
   int expected_width = 0;              ///< 0 = accept any size; otherwise images must match
   int expected_height = 0;
   int loops = 1;                       ///< repeat the sequence (soak tests); stamps keep increasing
+  /// An association file to take the pairs from instead of rgb.txt and depth.txt (empty: the lists).
+  std::string associations;
 };
 
 /// One associated RGB-D pair as listed (paths absolute or relative to the working directory).
@@ -47,6 +53,17 @@ struct ListEntry {
 /// malformed or non-increasing timestamp or a missing file name.
 std::vector<ListEntry> parseTumImageList(std::istream& in, const std::string& source);
 
+/// One line of an association file: two "timestamp filename" pairs, in the file's order.
+struct AssociationLine {
+  ListEntry first;
+  ListEntry second;
+  int line = 0;  ///< in the file, from 1
+};
+
+/// Parses an association file from text. Throws InputError naming `source` and the line for a
+/// line without four fields, a malformed timestamp, or a first timestamp not after the previous.
+std::vector<AssociationLine> parseAssociationFile(std::istream& in, const std::string& source);
+
 class TumDataset {
  public:
   /// Opens DIR and associates its lists. Throws InputError when the folder or a list is missing,
@@ -70,14 +87,21 @@ class TumDataset {
 
   /// Path of groundtruth.txt if the dataset has one.
   std::optional<std::string> groundTruthPath() const;
+  /// The association file the pairs came from (empty: rgb.txt and depth.txt).
+  const std::string& associationFile() const { return association_file_; }
 
  private:
   /// The image size the camera config expects (any size when none is set).
   bool fitsCamera(const cv::Size& image) const;
+  /// Fills entries_ from rgb.txt and depth.txt, associated by timestamps.
+  void associateLists();
+  /// Fills entries_ from association_file_.
+  void readAssociationFile();
 
   std::string directory_;
   TumDatasetOptions options_;
   std::vector<RgbdEntry> entries_;
+  std::string association_file_;
   double loop_period_ = 0.0;
   bool has_masks_ = false;
 };
