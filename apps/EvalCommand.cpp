@@ -23,6 +23,10 @@ struct EvalOptions {
   std::string gt, est, frames, plot, errors;
   bool json = false;
   double delta = 1.0;
+  // As the TUM scripts' --offset, --scale and (evaluate_ate.py's) --max_difference.
+  double offset = 0.0;          ///< seconds added to the estimate's timestamps
+  double scale = 1.0;           ///< factor on the estimate's positions
+  double max_difference = 0.02; ///< ATE association window, seconds
 };
 
 std::string statsJson(const eval::ErrorStatistics& s) {
@@ -62,10 +66,17 @@ void writeAteErrors(const std::string& path, const eval::AteResult& ate) {
 
 int runEval(const EvalOptions& o) {
   const auto gt = io::readTumTrajectory(o.gt);
-  const auto est = io::readTumTrajectory(o.est);
+  auto est = io::readTumTrajectory(o.est);
   if (gt.empty()) throw InputError(fmt::format("ground truth '{}' has no poses", o.gt));
   if (est.empty()) throw InputError(fmt::format("estimate '{}' has no poses", o.est));
-  const auto ate = eval::computeAte(gt, est);
+  // The scripts add the offset to the estimate's stamps wherever they compare them with the ground
+  // truth's, and scale its positions (ATE) or relative translations (RPE): the same as doing both
+  // to the estimate first.
+  for (auto& e : est) {
+    e.timestamp += o.offset;
+    e.t *= o.scale;
+  }
+  const auto ate = eval::computeAte(gt, est, o.max_difference);
   // A trajectory shorter than the RPE delta still has an ATE: report it, and why there is no RPE.
   std::optional<eval::RpeResult> rpe;
   std::string no_rpe;
@@ -87,6 +98,8 @@ int runEval(const EvalOptions& o) {
     std::printf("{\"ground_truth\": \"%s\", \"estimate\": \"%s\", \"estimate_poses\": %zu,\n", o.gt.c_str(),
                 o.est.c_str(), est.size());
     std::printf(" \"ate_m\": %s,\n", statsJson(ate.stats).c_str());
+    std::printf(" \"offset_s\": %.6f, \"scale\": %.6f, \"max_difference_s\": %.6f,\n", o.offset, o.scale,
+                o.max_difference);
     std::printf(" \"rpe_delta_s\": %.3f,\n \"rpe_translation_m\": %s,\n \"rpe_rotation_deg\": %s", o.delta,
                 rpe ? statsJson(rpe->translation).c_str() : "null", rpe ? statsJson(rpe->rotation_deg).c_str() : "null");
     if (tracked_ratio >= 0) {
@@ -125,6 +138,17 @@ Action addEvalCommand(CLI::App& app) {
   cmd->add_option("--frames", opts->frames,
                   "Input frame list (rgb.txt or a dataset folder) to report the tracked-frame ratio");
   cmd->add_option("--delta", opts->delta, "RPE time delta in seconds")->default_val(1.0)->check(positiveNumber());
+  cmd->add_option("--offset", opts->offset, "Seconds added to the estimate's timestamps (the TUM scripts' --offset)")
+      ->default_val(0.0)
+      ->check(finiteNumber());
+  cmd->add_option("--scale", opts->scale, "Factor on the estimate's positions (the TUM scripts' --scale)")
+      ->default_val(1.0)
+      ->check(positiveNumber());
+  cmd->add_option("--max-difference", opts->max_difference,
+                  "ATE: largest time difference (s) of an estimate and a ground-truth pose paired "
+                  "(evaluate_ate.py's --max_difference)")
+      ->default_val(0.02)
+      ->check(positiveNumber());
   return [opts] { return runEval(*opts); };
 }
 

@@ -92,6 +92,59 @@ TEST(EvalCli, ATrajectoryShorterThanTheRpeDeltaGetsItsAteAndSaysWhyThereIsNoRpe)
   EXPECT_NE(out.find("RPE translation (0.1 s): pairs"), std::string::npos) << out;
 }
 
+// The TUM scripts' --offset and --scale: an estimate whose clock is 1000 s ahead and whose positions
+// are doubled scores as the original (the TUM scripts' output for it) once both are given back.
+TEST(EvalCli, OffsetAndScaleUndoAShiftedClockAndAScaledTrajectory) {
+  TKGSLAM_REQUIRE_SHARED();
+  const auto ref = test::sharedDir() / "datasets" / "reference_trajectories";
+  test::TempDir tmp;
+  std::istringstream in(test::readFile(ref / "dynaslam_fr3_walk_xyz" / "CameraTrajectory_0.txt"));
+  std::string line, moved;
+  while (std::getline(in, line)) {
+    std::istringstream row(line);
+    double t, x, y, z, qx, qy, qz, qw;
+    if (!(row >> t >> x >> y >> z >> qx >> qy >> qz >> qw)) continue;
+    moved += fmt::format("{:.6f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f}\n", t + 1000, 2 * x, 2 * y, 2 * z, qx, qy,
+                         qz, qw);
+  }
+  test::writeText(tmp / "moved.txt", moved);
+  const std::string files = (ref / "groundtruth_fr3_walk_xyz.txt").string() + " " + (tmp / "moved.txt").string();
+  std::string out;
+  EXPECT_EQ(test::runCli("eval " + files, &out), 2) << out;  // no stamp of the ground truth's span
+  EXPECT_NE(out.find("fewer than 2 timestamps of the estimate match the ground truth (|dt| < 0.02 s)"),
+            std::string::npos)
+      << out;
+  ASSERT_EQ(test::runCli("eval --offset -1000 --scale 0.5 " + files, &out), 0) << out;
+  // dynaslam_fr3_walk_xyz/ate.txt and rpe.txt:
+  EXPECT_NE(out.find("rmse 0.0163  mean 0.0139  median 0.0122  std 0.0086  min 0.0016  max 0.0572 m"),
+            std::string::npos)
+      << out;
+  EXPECT_NE(out.find("rmse 0.0218  mean 0.0184  median 0.0161  std 0.0116  min 0.0010  max 0.0863 m"),
+            std::string::npos)
+      << out;
+  // Without the scale the doubled trajectory cannot be aligned (a rigid alignment has no scale).
+  ASSERT_EQ(test::runCli("eval --offset -1000 " + files, &out), 0) << out;
+  EXPECT_NE(out.find("ATE: pairs 757  rmse 0.3154"), std::string::npos) << out;
+  ASSERT_EQ(test::runCli("eval --json --offset -1000 --scale 0.5 " + files, &out), 0) << out;
+  EXPECT_NE(out.find("\"offset_s\": -1000.000000, \"scale\": 0.500000, \"max_difference_s\": 0.020000"),
+            std::string::npos)
+      << out;
+}
+
+// evaluate_ate.py's --max_difference: a tighter window pairs fewer poses.
+TEST(EvalCli, MaxDifferenceIsTheAteAssociationWindow) {
+  TKGSLAM_REQUIRE_SHARED();
+  const std::string files = (test::fr1xyz() / "groundtruth.txt").string() + " " +
+                            (test::sharedDir() / "datasets/reference_trajectories/freiburg1_xyz-rgbdslam.txt").string();
+  std::string out;
+  ASSERT_EQ(test::runCli("eval " + files, &out), 0) << out;
+  EXPECT_NE(out.find("ATE: pairs 786  rmse 0.0135"), std::string::npos) << out;
+  ASSERT_EQ(test::runCli("eval --max-difference 0.002 " + files, &out), 0) << out;
+  EXPECT_NE(out.find("ATE: pairs 318  rmse 0.0129"), std::string::npos) << out;
+  EXPECT_EQ(test::runCli("eval --max-difference 0.000001 " + files, &out), 2) << out;
+  EXPECT_NE(out.find("(|dt| < 1e-06 s)"), std::string::npos) << out;
+}
+
 TEST(EvalCli, BadInputExitsWithTwoAndAMessage) {
   test::TempDir tmp;
   test::writeText(tmp / "bad.txt", "1 2 3\n");
@@ -104,6 +157,15 @@ TEST(EvalCli, BadInputExitsWithTwoAndAMessage) {
   EXPECT_EQ(test::runCli("eval", &out), 2);
   EXPECT_EQ(test::runCli("eval --delta 0 " + (tmp / "ok.txt").string() + " " + (tmp / "ok.txt").string(), &out), 2);
   EXPECT_NE(out.find("--delta: must be more than 0, got 0"), std::string::npos) << out;
+  const std::string files = " " + (tmp / "ok.txt").string() + " " + (tmp / "ok.txt").string();
+  EXPECT_EQ(test::runCli("eval --scale 0" + files, &out), 2);
+  EXPECT_NE(out.find("--scale: must be more than 0, got 0"), std::string::npos) << out;
+  EXPECT_EQ(test::runCli("eval --scale inf" + files, &out), 2);
+  EXPECT_NE(out.find("--scale: must be finite, got inf"), std::string::npos) << out;
+  EXPECT_EQ(test::runCli("eval --offset nan" + files, &out), 2);
+  EXPECT_NE(out.find("--offset: 'nan' is not a number"), std::string::npos) << out;
+  EXPECT_EQ(test::runCli("eval --max-difference -0.1" + files, &out), 2);
+  EXPECT_NE(out.find("--max-difference: must be more than 0"), std::string::npos) << out;
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "tkgslam/eval/Ate.h"
 
 #include <Eigen/SVD>
+#include <fmt/format.h>
 
 #include "tkgslam/common/Error.h"
 #include "tkgslam/eval/Association.h"
@@ -41,8 +42,9 @@ AteResult computeAte(const std::vector<io::TrajectoryEntry>& ground_truth,
   const auto pairs = associateTimestamps(stampsOf(ground_truth), stampsOf(estimate), max_time_difference);
   if (pairs.size() < 2) {
     throw InputError(
-        "fewer than 2 timestamps of the estimate match the ground truth (|dt| < 0.02 s); "
-        "are these the right files?");
+        fmt::format("fewer than 2 timestamps of the estimate match the ground truth (|dt| < {:g} s); "
+                    "are these the right files?",
+                    max_time_difference));
   }
   AteResult r;
   std::vector<Vec3> est;

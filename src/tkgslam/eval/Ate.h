@@ -1,6 +1,6 @@
 #pragma once
 // Absolute trajectory error exactly as the TUM benchmark's evaluate_ate.py: associate estimate
-// and ground truth stamps (|dt| < 0.02 s), rigidly align the estimated positions to the ground
+// and ground truth stamps (|dt| < 0.02 s by default), rigidly align the estimated positions to the ground
 // truth (SVD / Horn, no scale), and report statistics of the position residuals in metres.
 #include <vector>
 
