@@ -23,6 +23,7 @@ struct EvalOptions {
   std::string gt, est, frames, plot, errors;
   bool json = false;
   double delta = 1.0;
+  std::string delta_unit = "s";  ///< evaluate_rpe.py's --delta_unit
   // As the TUM scripts' --offset, --scale and (evaluate_ate.py's) --max_difference.
   double offset = 0.0;          ///< seconds added to the estimate's timestamps
   double scale = 1.0;           ///< factor on the estimate's positions
@@ -70,18 +71,19 @@ int runEval(const EvalOptions& o) {
   if (gt.empty()) throw InputError(fmt::format("ground truth '{}' has no poses", o.gt));
   if (est.empty()) throw InputError(fmt::format("estimate '{}' has no poses", o.est));
   // The scripts add the offset to the estimate's stamps wherever they compare them with the ground
-  // truth's, and scale its positions (ATE) or relative translations (RPE): the same as doing both
-  // to the estimate first.
-  for (auto& e : est) {
-    e.timestamp += o.offset;
-    e.t *= o.scale;
-  }
-  const auto ate = eval::computeAte(gt, est, o.max_difference);
+  // truth's: the same as adding it to the estimate's first. The scale is on its positions (ATE),
+  // or on its relative translations (RPE, where distances along it stay unscaled).
+  for (auto& e : est) e.timestamp += o.offset;
+  auto est_scaled = est;
+  for (auto& e : est_scaled) e.t *= o.scale;
+  const auto ate = eval::computeAte(gt, est_scaled, o.max_difference);
   // A trajectory shorter than the RPE delta still has an ATE: report it, and why there is no RPE.
+  const eval::RpeOptions rpe_options{o.delta, eval::parseDeltaUnit(o.delta_unit), o.scale};
+  const std::string delta_text = fmt::format("{:g} {}", o.delta, o.delta_unit);
   std::optional<eval::RpeResult> rpe;
   std::string no_rpe;
   try {
-    rpe = eval::computeRpe(gt, est, o.delta);
+    rpe = eval::computeRpe(gt, est, rpe_options);
   } catch (const InputError& e) {
     no_rpe = e.what();
     std::fprintf(stderr, "warning: %s; only ATE reported\n", no_rpe.c_str());
@@ -100,7 +102,10 @@ int runEval(const EvalOptions& o) {
     std::printf(" \"ate_m\": %s,\n", statsJson(ate.stats).c_str());
     std::printf(" \"offset_s\": %.6f, \"scale\": %.6f, \"max_difference_s\": %.6f,\n", o.offset, o.scale,
                 o.max_difference);
-    std::printf(" \"rpe_delta_s\": %.3f,\n \"rpe_translation_m\": %s,\n \"rpe_rotation_deg\": %s", o.delta,
+    std::printf(" \"rpe_delta\": %g, \"rpe_delta_unit\": \"%s\", \"rpe_delta_s\": %s,\n \"rpe_translation_m\": %s,\n"
+                " \"rpe_rotation_deg\": %s",
+                o.delta, o.delta_unit.c_str(),
+                rpe_options.unit == eval::DeltaUnit::Seconds ? fmt::format("{:.3f}", o.delta).c_str() : "null",
                 rpe ? statsJson(rpe->translation).c_str() : "null", rpe ? statsJson(rpe->rotation_deg).c_str() : "null");
     if (tracked_ratio >= 0) {
       std::printf(",\n \"input_frames\": %d, \"tracked_ratio\": %.6f", input_frames, tracked_ratio);
@@ -110,10 +115,10 @@ int runEval(const EvalOptions& o) {
     std::printf("estimate poses: %zu, ground-truth poses: %zu\n", est.size(), gt.size());
     printStats("ATE", "m", ate.stats);
     if (rpe) {
-      printStats(fmt::format("RPE translation ({:g} s)", o.delta).c_str(), "m", rpe->translation);
-      printStats(fmt::format("RPE rotation    ({:g} s)", o.delta).c_str(), "deg", rpe->rotation_deg);
+      printStats(fmt::format("RPE translation ({})", delta_text).c_str(), "m", rpe->translation);
+      printStats(fmt::format("RPE rotation    ({})", delta_text).c_str(), "deg", rpe->rotation_deg);
     } else {
-      std::printf("RPE (%g s): not computed - %s\n", o.delta, no_rpe.c_str());
+      std::printf("RPE (%s): not computed - %s\n", delta_text.c_str(), no_rpe.c_str());
     }
     if (tracked_ratio >= 0) {
       std::printf("tracked frames: %zu / %d = %.2f %%\n", est.size(), input_frames, 100.0 * tracked_ratio);
@@ -137,7 +142,14 @@ Action addEvalCommand(CLI::App& app) {
                   "Write the per-pose ATE (timestamp, error, aligned positions) to this text file");
   cmd->add_option("--frames", opts->frames,
                   "Input frame list (rgb.txt or a dataset folder) to report the tracked-frame ratio");
-  cmd->add_option("--delta", opts->delta, "RPE time delta in seconds")->default_val(1.0)->check(positiveNumber());
+  cmd->add_option("--delta", opts->delta, "RPE delta between the poses of a pair, in --delta-unit")
+      ->default_val(1.0)
+      ->check(positiveNumber());
+  cmd->add_option("--delta-unit", opts->delta_unit,
+                  "RPE delta unit as evaluate_rpe.py's --delta_unit: s (seconds), f (frames), m, rad or deg "
+                  "(travelled along the estimate)")
+      ->default_val("s")
+      ->check(CLI::IsMember({"s", "f", "m", "rad", "deg"}));
   cmd->add_option("--offset", opts->offset, "Seconds added to the estimate's timestamps (the TUM scripts' --offset)")
       ->default_val(0.0)
       ->check(finiteNumber());

@@ -90,6 +90,14 @@ TEST(EvalCli, ATrajectoryShorterThanTheRpeDeltaGetsItsAteAndSaysWhyThereIsNoRpe)
   // With a delta the trajectory spans, RPE is there.
   EXPECT_EQ(test::runCli("eval --delta 0.1 " + files, &out), 0) << out;
   EXPECT_NE(out.find("RPE translation (0.1 s): pairs"), std::string::npos) << out;
+  // Or a delta in frames (evaluate_rpe.py's --delta_unit f): 10 poses, the last one no pair's start.
+  EXPECT_EQ(test::runCli("eval --delta 2 --delta-unit f " + files, &out), 0) << out;
+  EXPECT_NE(out.find("RPE translation (2 f): pairs 7 "), std::string::npos) << out;
+  EXPECT_EQ(test::runCli("eval --json --delta 2 --delta-unit f " + files, &out), 0) << out;
+  EXPECT_NE(out.find("\"rpe_delta\": 2, \"rpe_delta_unit\": \"f\", \"rpe_delta_s\": null"), std::string::npos) << out;
+  EXPECT_EQ(test::runCli("eval --delta 20 --delta-unit f " + files, &out), 0) << out;
+  EXPECT_NE(out.find("no pose pair 20 f apart matches the ground truth (the estimate spans 9.00 f)"), std::string::npos)
+      << out;
 }
 
 // The TUM scripts' --offset and --scale: an estimate whose clock is 1000 s ahead and whose positions
@@ -166,6 +174,8 @@ TEST(EvalCli, BadInputExitsWithTwoAndAMessage) {
   EXPECT_NE(out.find("--offset: 'nan' is not a number"), std::string::npos) << out;
   EXPECT_EQ(test::runCli("eval --max-difference -0.1" + files, &out), 2);
   EXPECT_NE(out.find("--max-difference: must be more than 0"), std::string::npos) << out;
+  EXPECT_EQ(test::runCli("eval --delta-unit ms" + files, &out), 2);
+  EXPECT_NE(out.find("--delta-unit: ms not in {s,f,m,rad,deg}"), std::string::npos) << out;
 }
 
 }  // namespace

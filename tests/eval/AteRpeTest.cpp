@@ -1,3 +1,5 @@
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "tkgslam/common/Error.h"
@@ -82,6 +84,50 @@ TEST(Rpe, ConstantDriftPerSecondIsMeasured) {
   EXPECT_EQ(r.translation.count, 90);  // pairs whose partner is the last pose are dropped
   EXPECT_NEAR(r.translation.rmse, 0.01, 1e-9);
   EXPECT_NEAR(r.rotation_deg.rmse, 0.0, 1e-6);
+}
+
+// evaluate_rpe.py's --delta_unit: the pair's second pose is delta frames, metres or degrees on.
+TEST(Rpe, DeltaInFramesMetresAndDegreesTravelledAlongTheEstimate) {
+  // Both turn 2 deg and move 1 cm per frame (0.1 s) along their own x; the estimate moves 1.1 cm.
+  std::vector<io::TrajectoryEntry> gt, est, est_doubled;
+  Pose P = Pose::Identity(), Q = Pose::Identity(), D = Pose::Identity();
+  const Eigen::AngleAxisd turn(2.0 * M_PI / 180.0, Vec3::UnitZ());
+  const auto add = [](std::vector<io::TrajectoryEntry>& traj, double t, const Pose& T_wc) {
+    traj.push_back(entry(t, T_wc.translation(), Eigen::Quaterniond(T_wc.linear())));
+  };
+  for (int i = 0; i < 30; ++i) {
+    add(gt, 0.1 * i, Q);
+    add(est, 0.1 * i, P);
+    add(est_doubled, 0.1 * i, D);
+    Pose step = Pose::Identity();
+    step.linear() = turn.toRotationMatrix();
+    step.translation() = Vec3(0.01, 0, 0);
+    Q = Q * step;
+    step.translation() = Vec3(0.011, 0, 0);
+    P = P * step;
+    step.translation() = Vec3(0.022, 0, 0);
+    D = D * step;
+  }
+  const auto rpe = [&](const std::vector<io::TrajectoryEntry>& e, double delta, eval::DeltaUnit unit,
+                       double scale = 1.0) { return eval::computeRpe(gt, e, eval::RpeOptions{delta, unit, scale}); };
+  // One frame on: 1 mm; pairs whose partner is the last pose are dropped (28 of 30).
+  auto r = rpe(est, 1, eval::DeltaUnit::Frames);
+  EXPECT_EQ(r.translation.count, 28);
+  EXPECT_NEAR(r.translation.rmse, 0.001, 1e-9);
+  EXPECT_NEAR(r.rotation_deg.rmse, 0.0, 1e-6);
+  // k frames on, the two differ by 1 mm along each of the k steps, which turn 2 deg one to the next:
+  // a chord of k mm x sin(k deg) / (k sin(1 deg)).
+  const auto chord_mm = [](int k) { return 0.001 * std::sin(k * M_PI / 180.0) / std::sin(M_PI / 180.0); };
+  EXPECT_NEAR(rpe(est, 3, eval::DeltaUnit::Frames).translation.rmse, chord_mm(3), 1e-12);
+  EXPECT_NEAR(rpe(est, 6, eval::DeltaUnit::Degrees).translation.rmse, chord_mm(3), 1e-12);
+  EXPECT_NEAR(rpe(est, 6 * M_PI / 180.0, eval::DeltaUnit::Radians).translation.rmse, chord_mm(3), 1e-12);
+  EXPECT_NEAR(rpe(est, 0.055, eval::DeltaUnit::Metres).translation.rmse, chord_mm(5), 1e-12);  // 5 steps of 1.1 cm
+  EXPECT_NEAR(rpe(est, 0.5, eval::DeltaUnit::Seconds).translation.rmse, chord_mm(5), 1e-12);
+  // The scale applies to the error, not to the distance travelled: 0.11 m of the doubled estimate
+  // is 5 of its 2.2 cm steps, and halved they are 1.1 cm steps again.
+  EXPECT_NEAR(rpe(est_doubled, 0.11, eval::DeltaUnit::Metres, 0.5).translation.rmse, chord_mm(5), 1e-12);
+  EXPECT_EQ(eval::parseDeltaUnit("deg"), eval::DeltaUnit::Degrees);
+  EXPECT_THROW(eval::parseDeltaUnit("ms"), InputError);
 }
 
 }  // namespace

@@ -26,10 +26,52 @@ Track toTrack(const std::vector<io::TrajectoryEntry>& traj) {
   }
   return t;
 }
+
+/// Where each estimated pose is in the delta's unit (evaluate_rpe.py's index_est): its time, its
+/// number, or the distance / rotation travelled along the estimate up to it.
+std::vector<double> indexAlong(const Track& est, DeltaUnit unit) {
+  std::vector<double> index(est.stamps.size(), 0.0);
+  for (size_t k = 1; k < index.size(); ++k) {
+    const Pose step = est.poses[k - 1].inverse() * est.poses[k];
+    switch (unit) {
+      case DeltaUnit::Seconds: index[k] = est.stamps[k]; break;
+      case DeltaUnit::Frames: index[k] = double(k); break;
+      case DeltaUnit::Metres: index[k] = index[k - 1] + step.translation().norm(); break;
+      case DeltaUnit::Radians: index[k] = index[k - 1] + rotationAngle(step.linear()); break;
+      case DeltaUnit::Degrees: index[k] = index[k - 1] + rotationAngle(step.linear()) * 180.0 / M_PI; break;
+    }
+  }
+  if (unit == DeltaUnit::Seconds && !index.empty()) index[0] = est.stamps[0];
+  return index;
+}
 }  // namespace
+
+const char* toString(DeltaUnit unit) {
+  switch (unit) {
+    case DeltaUnit::Seconds: return "s";
+    case DeltaUnit::Frames: return "f";
+    case DeltaUnit::Metres: return "m";
+    case DeltaUnit::Radians: return "rad";
+    case DeltaUnit::Degrees: return "deg";
+  }
+  return "?";
+}
+
+DeltaUnit parseDeltaUnit(const std::string& name) {
+  for (const auto unit : {DeltaUnit::Seconds, DeltaUnit::Frames, DeltaUnit::Metres, DeltaUnit::Radians,
+                          DeltaUnit::Degrees}) {
+    if (name == toString(unit)) return unit;
+  }
+  throw InputError(fmt::format("unknown RPE delta unit '{}' (s, f, m, rad or deg)", name));
+}
 
 RpeResult computeRpe(const std::vector<io::TrajectoryEntry>& ground_truth,
                      const std::vector<io::TrajectoryEntry>& estimate, double delta_seconds) {
+  return computeRpe(ground_truth, estimate, RpeOptions{delta_seconds, DeltaUnit::Seconds, 1.0});
+}
+
+RpeResult computeRpe(const std::vector<io::TrajectoryEntry>& ground_truth,
+                     const std::vector<io::TrajectoryEntry>& estimate, const RpeOptions& options) {
   const Track gt = toTrack(ground_truth), est = toTrack(estimate);
   if (gt.stamps.size() < 2 || est.stamps.size() < 2) {
     throw InputError("RPE needs at least 2 valid poses in both the ground truth and the estimate");
@@ -55,9 +97,10 @@ RpeResult computeRpe(const std::vector<io::TrajectoryEntry>& ground_truth,
   const double max_gt_difference = 2.0 * median_interval;
 
   RpeResult r;
+  const std::vector<double> index = indexAlong(est, options.unit);
   const int n = static_cast<int>(est.stamps.size());
   for (int i = 0; i < n; ++i) {
-    const int j = findClosestIndex(est.stamps, est.stamps[i] + delta_seconds);
+    const int j = findClosestIndex(index, index[i] + options.delta);
     if (j == n - 1) continue;
     const int gi = findClosestIndex(gt.stamps, est.stamps[i]);
     const int gj = findClosestIndex(gt.stamps, est.stamps[j]);
@@ -65,7 +108,8 @@ RpeResult computeRpe(const std::vector<io::TrajectoryEntry>& ground_truth,
         std::abs(gt.stamps[gj] - est.stamps[j]) > max_gt_difference) {
       continue;
     }
-    const Pose rel_est = est.poses[j].inverse() * est.poses[i];
+    Pose rel_est = est.poses[j].inverse() * est.poses[i];
+    rel_est.translation() *= options.scale;
     const Pose rel_gt = gt.poses[gj].inverse() * gt.poses[gi];
     const Pose E = rel_est.inverse() * rel_gt;
     r.timestamps.push_back(est.stamps[i]);
@@ -73,8 +117,9 @@ RpeResult computeRpe(const std::vector<io::TrajectoryEntry>& ground_truth,
     r.rotation_errors_deg.push_back(rotationAngle(E.linear()) * 180.0 / M_PI);
   }
   if (r.timestamps.empty()) {
-    throw InputError(fmt::format("RPE: no pose pair {:g} s apart matches the ground truth (the estimate spans {:.2f} s)",
-                                 delta_seconds, est.stamps.back() - est.stamps.front()));
+    const char* unit = toString(options.unit);
+    throw InputError(fmt::format("RPE: no pose pair {:g} {} apart matches the ground truth (the estimate spans {:.2f} {})",
+                                 options.delta, unit, index.back() - index.front(), unit));
   }
   r.translation = ErrorStatistics::compute(r.translation_errors);
   r.rotation_deg = ErrorStatistics::compute(r.rotation_errors_deg);
