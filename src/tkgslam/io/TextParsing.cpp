@@ -4,6 +4,10 @@
 #include <cmath>
 #include <cstdlib>
 
+#include <fmt/format.h>
+
+#include "tkgslam/common/Error.h"
+
 namespace tkgslam::io {
 
 std::vector<std::string> splitFields(const std::string& line) {
@@ -36,6 +40,23 @@ bool isCommentOrBlank(const std::string& line) {
     if (c != ' ' && c != '\t' && c != '\r') return false;
   }
   return true;
+}
+
+std::vector<DataLine> readDataLines(std::istream& in, const std::string& source, size_t min_fields,
+                                    const std::string& layout) {
+  std::vector<DataLine> out;
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (isCommentOrBlank(line)) continue;
+    auto fields = splitFields(line);
+    if (fields.size() < min_fields) {
+      throw InputError(fmt::format("{}:{}: expected '{}', got '{}'", source, number, layout, line));
+    }
+    out.push_back({number, std::move(line), std::move(fields)});
+  }
+  return out;
 }
 
 }  // namespace tkgslam::io

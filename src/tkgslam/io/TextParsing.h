@@ -1,5 +1,6 @@
 #pragma once
 // Small helpers shared by the line-oriented text parsers (TUM lists, trajectories).
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -13,5 +14,17 @@ bool parseDouble(const std::string& token, double& value);
 
 /// True for lines the TUM tools ignore: empty, whitespace only, or starting with '#'.
 bool isCommentOrBlank(const std::string& line);
+
+/// A line of a list that is not a comment or blank, split into fields.
+struct DataLine {
+  int number = 0;  ///< in the file, from 1
+  std::string text;
+  std::vector<std::string> fields;
+};
+
+/// The data lines of `in`. Throws InputError "source:N: expected '<layout>', got '<line>'" for the
+/// first with fewer than `min_fields` fields.
+std::vector<DataLine> readDataLines(std::istream& in, const std::string& source, size_t min_fields,
+                                    const std::string& layout);
 
 }  // namespace tkgslam::io

@@ -37,41 +37,22 @@ void requireAfter(double t, const std::string& token, double previous, const std
 
 std::vector<ListEntry> parseTumImageList(std::istream& in, const std::string& source) {
   std::vector<ListEntry> out;
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (isCommentOrBlank(line)) continue;
-    const auto fields = splitFields(line);
-    if (fields.size() < 2) {
-      throw InputError(fmt::format("{}:{}: expected 'timestamp filename', got '{}'", source, line_no, line));
-    }
-    ListEntry e;
-    e.timestamp = parseTimestamp(fields[0], source, line_no);
-    if (!out.empty()) requireAfter(e.timestamp, fields[0], out.back().timestamp, source, line_no);
-    e.file = fields[1];
-    out.push_back(std::move(e));
+  for (const auto& l : readDataLines(in, source, 2, "timestamp filename")) {
+    const double t = parseTimestamp(l.fields[0], source, l.number);
+    if (!out.empty()) requireAfter(t, l.fields[0], out.back().timestamp, source, l.number);
+    out.push_back({t, l.fields[1]});
   }
   return out;
 }
 
 std::vector<AssociationLine> parseAssociationFile(std::istream& in, const std::string& source) {
   std::vector<AssociationLine> out;
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (isCommentOrBlank(line)) continue;
-    const auto fields = splitFields(line);
-    if (fields.size() < 4) {
-      throw InputError(fmt::format("{}:{}: expected 'timestamp filename timestamp filename', got '{}'", source,
-                                   line_no, line));
-    }
+  for (const auto& l : readDataLines(in, source, 4, "timestamp filename timestamp filename")) {
     AssociationLine a;
-    a.line = line_no;
-    a.first = {parseTimestamp(fields[0], source, line_no), fields[1]};
-    a.second = {parseTimestamp(fields[2], source, line_no), fields[3]};
-    if (!out.empty()) requireAfter(a.first.timestamp, fields[0], out.back().first.timestamp, source, line_no);
+    a.line = l.number;
+    a.first = {parseTimestamp(l.fields[0], source, l.number), l.fields[1]};
+    a.second = {parseTimestamp(l.fields[2], source, l.number), l.fields[3]};
+    if (!out.empty()) requireAfter(a.first.timestamp, l.fields[0], out.back().first.timestamp, source, l.number);
     out.push_back(std::move(a));
   }
   return out;
