@@ -30,18 +30,19 @@ Track toTrack(const std::vector<io::TrajectoryEntry>& traj) {
 /// Where each estimated pose is in the delta's unit (evaluate_rpe.py's index_est): its time, its
 /// number, or the distance / rotation travelled along the estimate up to it.
 std::vector<double> indexAlong(const Track& est, DeltaUnit unit) {
+  if (unit == DeltaUnit::Seconds) return est.stamps;
   std::vector<double> index(est.stamps.size(), 0.0);
   for (size_t k = 1; k < index.size(); ++k) {
-    const Pose step = est.poses[k - 1].inverse() * est.poses[k];
-    switch (unit) {
-      case DeltaUnit::Seconds: index[k] = est.stamps[k]; break;
-      case DeltaUnit::Frames: index[k] = double(k); break;
-      case DeltaUnit::Metres: index[k] = index[k - 1] + step.translation().norm(); break;
-      case DeltaUnit::Radians: index[k] = index[k - 1] + rotationAngle(step.linear()); break;
-      case DeltaUnit::Degrees: index[k] = index[k - 1] + rotationAngle(step.linear()) * 180.0 / M_PI; break;
+    if (unit == DeltaUnit::Frames) {
+      index[k] = double(k);
+      continue;
     }
+    const Pose step = est.poses[k - 1].inverse() * est.poses[k];
+    const double angle = rotationAngle(step.linear());
+    index[k] = index[k - 1] + (unit == DeltaUnit::Metres    ? step.translation().norm()
+                               : unit == DeltaUnit::Radians ? angle
+                                                            : angle * 180.0 / M_PI);
   }
-  if (unit == DeltaUnit::Seconds && !index.empty()) index[0] = est.stamps[0];
   return index;
 }
 }  // namespace
