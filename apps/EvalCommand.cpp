@@ -4,6 +4,7 @@
 #include <fstream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -129,6 +130,12 @@ int runEval(const EvalOptions& o) {
   return 0;
 }
 
+std::vector<std::string> deltaUnitNames() {
+  std::vector<std::string> names;
+  for (const auto unit : eval::kDeltaUnits) names.emplace_back(eval::toString(unit));
+  return names;
+}
+
 }  // namespace
 
 Action addEvalCommand(CLI::App& app) {
@@ -149,7 +156,7 @@ Action addEvalCommand(CLI::App& app) {
                   "RPE delta unit as evaluate_rpe.py's --delta_unit: s (seconds), f (frames), m, rad or deg "
                   "(travelled along the estimate)")
       ->default_val("s")
-      ->check(CLI::IsMember({"s", "f", "m", "rad", "deg"}));
+      ->check(CLI::IsMember(deltaUnitNames()));
   cmd->add_option("--offset", opts->offset, "Seconds added to the estimate's timestamps (the TUM scripts' --offset)")
       ->default_val(0.0)
       ->check(finiteNumber());

@@ -59,8 +59,7 @@ const char* toString(DeltaUnit unit) {
 }
 
 DeltaUnit parseDeltaUnit(const std::string& name) {
-  for (const auto unit : {DeltaUnit::Seconds, DeltaUnit::Frames, DeltaUnit::Metres, DeltaUnit::Radians,
-                          DeltaUnit::Degrees}) {
+  for (const auto unit : kDeltaUnits) {
     if (name == toString(unit)) return unit;
   }
   throw InputError(fmt::format("unknown RPE delta unit '{}' (s, f, m, rad or deg)", name));

@@ -24,6 +24,8 @@ struct RpeResult {
 
 /// evaluate_rpe.py's --delta_unit: what the delta between the two poses of a pair counts.
 enum class DeltaUnit { Seconds, Frames, Metres, Radians, Degrees };
+inline constexpr DeltaUnit kDeltaUnits[] = {DeltaUnit::Seconds, DeltaUnit::Frames, DeltaUnit::Metres,
+                                            DeltaUnit::Radians, DeltaUnit::Degrees};
 
 /// The unit's name in evaluate_rpe.py (s, f, m, rad, deg).
 const char* toString(DeltaUnit unit);

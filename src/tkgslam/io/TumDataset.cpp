@@ -80,11 +80,14 @@ std::vector<double> stamps(const std::vector<ListEntry>& list) {
   return s;
 }
 
-/// A depth image: single-channel 16-bit (or 32-bit float metres). Throws for an unreadable file.
+/// What load() takes for depth: single-channel 16-bit (or 32-bit float metres).
+bool isDepthType(const cv::Mat& image) { return image.type() == CV_16UC1 || image.type() == CV_32FC1; }
+
+/// Whether the image file is a depth image. Throws for an unreadable file.
 bool isDepthImage(const std::string& path) {
   const cv::Mat m = cv::imread(path, cv::IMREAD_UNCHANGED);
   if (m.empty()) throw InputError(fmt::format("cannot read image '{}'", path));
-  return m.channels() == 1 && (m.depth() == CV_16U || m.depth() == CV_32F);
+  return isDepthType(m);
 }
 
 }  // namespace
@@ -95,8 +98,7 @@ TumDataset::TumDataset(const std::string& directory, TumDatasetOptions options)
   if (options_.loops < 1) throw InputError("loops must be >= 1");
   const fs::path dir(directory);
   if (!fs::is_directory(dir)) throw InputError(fmt::format("dataset folder '{}' does not exist", directory));
-  association_file_ = options_.associations;
-  if (association_file_.empty()) {
+  if (options_.associations.empty()) {
     associateLists();
   } else {
     readAssociationFile();
@@ -144,7 +146,7 @@ void TumDataset::associateLists() {
 }
 
 void TumDataset::readAssociationFile() {
-  const std::string& file = association_file_;
+  const std::string& file = options_.associations;
   if (!fs::is_regular_file(file)) throw InputError(fmt::format("association file '{}' does not exist", file));
   std::ifstream in(file);
   if (!in) throw InputError(fmt::format("cannot read association file '{}'", file));
@@ -201,7 +203,7 @@ RgbdImages TumDataset::load(int i) const {
   cv::cvtColor(out.bgr, out.gray, cv::COLOR_BGR2GRAY);
   cv::Mat raw = cv::imread(e.depth_path, cv::IMREAD_UNCHANGED);
   if (raw.empty()) throw InputError(fmt::format("cannot read depth image '{}'", e.depth_path));
-  if (raw.channels() != 1 || (raw.type() != CV_16UC1 && raw.type() != CV_32FC1)) {
+  if (!isDepthType(raw)) {
     throw InputError(fmt::format("depth image '{}' must be single-channel 16-bit (or 32-bit float "
                                  "metres); got {} channel(s) of depth type {}",
                                  e.depth_path, raw.channels(), raw.depth()));

@@ -88,20 +88,19 @@ class TumDataset {
   /// Path of groundtruth.txt if the dataset has one.
   std::optional<std::string> groundTruthPath() const;
   /// The association file the pairs came from (empty: rgb.txt and depth.txt).
-  const std::string& associationFile() const { return association_file_; }
+  const std::string& associationFile() const { return options_.associations; }
 
  private:
   /// The image size the camera config expects (any size when none is set).
   bool fitsCamera(const cv::Size& image) const;
   /// Fills entries_ from rgb.txt and depth.txt, associated by timestamps.
   void associateLists();
-  /// Fills entries_ from association_file_.
+  /// Fills entries_ from the association file (TumDatasetOptions::associations).
   void readAssociationFile();
 
   std::string directory_;
   TumDatasetOptions options_;
   std::vector<RgbdEntry> entries_;
-  std::string association_file_;
   double loop_period_ = 0.0;
   bool has_masks_ = false;
 };
