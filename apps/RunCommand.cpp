@@ -120,6 +120,7 @@ int runSlam(const RunOptions& o) {
   if (!o.object_mask.empty()) {
     config.dynamic.object_mask = o.object_mask != "off";
     config.dynamic.object.colour = o.object_mask == "colour";
+    config.dynamic.object.region = o.object_mask == "region";
   }
   if (o.lookahead) config.dynamic.lookahead = true;
   if (o.detector_tiles > 0) config.dynamic.detector_tiles = o.detector_tiles;
@@ -401,8 +402,8 @@ Action addRunCommand(CLI::App& app) {
       ->check(CLI::IsMember({"on", "off"}));
   cmd->add_option("--object-mask", o->object_mask,
                   "Exclude only what in each box may be the object by depth (on), by depth and colour (colour), "
-                  "or the whole box (off = the paper)")
-      ->check(CLI::IsMember({"on", "colour", "off"}));
+                  "as the region a depth edge bounds (region), or the whole box (off = the paper)")
+      ->check(CLI::IsMember({"on", "colour", "region", "off"}));
   cmd->add_flag("--lookahead", o->lookahead,
                 "Hold frames back until the next detection (boxes interpolated; poses N + L - 1 frames late)");
   cmd->add_option("--detector-tiles", o->detector_tiles,

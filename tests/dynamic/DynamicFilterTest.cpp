@@ -192,6 +192,51 @@ TEST(DynamicFilter, ObjectMaskByColourFallsBackToDepthOnDegenerateBoxes) {
   }
 }
 
+// The object 0.2 m in front of the wall again, now with a limb sloping away from it: the region a
+// depth edge bounds is the object and its limb, the wall in the box is left out - by depth alone.
+TEST(DynamicFilter, ObjectMaskByRegionLeavesOutTheBackgroundBeyondADepthEdge) {
+  cv::Mat depth = objectBeforeWall(1.0f, 1.2f);
+  const cv::Rect limb(180, 150, 30, 40);  // right of the object, 1.0 m at its side to 1.087 m
+  for (int u = limb.x; u < limb.br().x; ++u) depth(cv::Rect(u, limb.y, 1, limb.height)).setTo(1.0f + 0.003f * (u - limb.x));
+  const dynamic::Detection d = looseBox();
+  dynamic::ObjectMaskParams p;
+  p.behind = 0.5;
+  p.radius = 0;
+  EXPECT_EQ(cv::countNonZero(dynamic::objectMaskInBoxes({d}, cv::Mat(), depth, 0.0, p).mask), 120 * 180);
+  p.region = true;
+  const auto m = dynamic::objectMaskInBoxes({d}, cv::Mat(), depth, 0.0, p);
+  EXPECT_EQ(cv::countNonZero(m.mask), kObject.area() + limb.area());
+  EXPECT_EQ(m.mask.at<uchar>(160, 209), 255);  // the limb's far end, 1.087 m
+  EXPECT_EQ(m.mask.at<uchar>(160, 210), 0);    // the wall next to it (a 10 % step)
+  EXPECT_EQ(m.mask.at<uchar>(100, 105), 0);
+  // Nearer pixels and pixels without depth in the box stay masked, as in the band.
+  depth(cv::Rect(105, 100, 10, 10)).setTo(0.8f);
+  depth(cv::Rect(200, 60, 5, 5)).setTo(0.0f);
+  EXPECT_EQ(cv::countNonZero(dynamic::objectMaskInBoxes({d}, cv::Mat(), depth, 0.0, p).mask),
+            kObject.area() + limb.area() + 100 + 25);
+  // Widened by the radius like the band's mask, and cut to the box.
+  p.radius = 10;
+  const auto wide = dynamic::objectMaskInBoxes({d}, cv::Mat(), depth, 0.0, p);
+  EXPECT_EQ(wide.mask.at<uchar>(100, 130), 255);  // 10 px left of the object
+  EXPECT_EQ(wide.mask.at<uchar>(100, 129), 0);
+  EXPECT_EQ(wide.mask.at<uchar>(100, 124), 255);  // 10 px right of the nearer patch
+  EXPECT_EQ(wide.mask.at<uchar>(180, 120), 0);
+}
+
+// A box whose central half is mostly wall: the median is the wall's, the region grows over the
+// wall, and the object, nearer than the median, is masked all the same - the whole box.
+TEST(DynamicFilter, ObjectMaskByRegionKeepsTheObjectWhenTheMedianIsTheBackground) {
+  const cv::Mat depth = objectBeforeWall(1.0f, 1.2f);
+  dynamic::Detection d;
+  d.box = cv::Rect2f(40, 30, 240, 180);  // central half: 120 columns, 40 of them the object's
+  dynamic::ObjectMaskParams p;
+  p.radius = 0;
+  p.region = true;
+  const auto m = dynamic::objectMaskInBoxes({d}, cv::Mat(), depth, 0.0, p);
+  EXPECT_EQ(cv::countNonZero(m.mask(kObject)), kObject.area());
+  EXPECT_EQ(cv::countNonZero(m.mask), 240 * 180);
+}
+
 TEST(DynamicFilter, ObjectMaskIsTheWholeBoxWhenItsCentreHasNoDepth) {
   cv::Mat depth(240, 320, CV_32F, cv::Scalar(3.0f));
   dynamic::Detection d;

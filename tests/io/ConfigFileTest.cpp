@@ -150,6 +150,14 @@ TEST(ConfigFile, InvalidValuesAreClearErrors) {
   EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {object_colour: true}").find("object_colour needs dynamic.object_mask"),
             std::string::npos);
   EXPECT_TRUE(io::parseConfig(std::string(kMinimal) + "dynamic: {object_mask: true, object_colour: true}", "t").dynamic.object.colour);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {object_region: true}").find("object_region needs dynamic.object_mask"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {object_mask: true, object_region: true, object_colour: true}")
+                .find("choose one"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {object_region_step: 0}").find("object_region_step must be in (0, 1]"),
+            std::string::npos);
+  EXPECT_TRUE(io::parseConfig(std::string(kMinimal) + "dynamic: {object_mask: true, object_region: true}", "t").dynamic.object.region);
   EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {object_radius: 100}").find("object_radius must be in [0, 64]"),
             std::string::npos);
   EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {object_behind: -0.1}").find("object_behind must be >= 0"),

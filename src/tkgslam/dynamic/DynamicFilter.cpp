@@ -76,6 +76,42 @@ cv::Mat colourObject(const cv::Rect2f& box, const cv::Rect& around, const cv::Ma
   object_crop(shared - crop.tl()).copyTo(object(shared - around.tl()));
   return object;
 }
+/// floodFill's mask: 0 inside `region` (where growing may go), 1 elsewhere, with the 1-pixel border.
+cv::Mat floodBarrier(const cv::Mat& region) {
+  cv::Mat flood_mask(region.rows + 2, region.cols + 2, CV_8U, cv::Scalar(1));
+  flood_mask(cv::Rect(1, 1, region.cols, region.rows)).setTo(0, region);
+  return flood_mask;
+}
+
+// The object's pixels in `around` (255): the region of log-depth steps <= log(1 + step) grown from
+// the pixels of `inner` (the box's central half) near the median, within `farthest`; plus what is
+// nearer than the median or has no depth (see objectMaskInBoxes).
+cv::Mat regionObject(const cv::Rect& inner, const cv::Rect& around, const cv::Mat& depth_m, float median, float farthest,
+                     double step) {
+  const cv::Mat z = depth_m(around);
+  cv::Mat log_z;
+  z.copyTo(log_z);
+  const cv::Mat has_depth = z > 0;
+  log_z.setTo(1.0f, ~has_depth);  // any value: these pixels are barriers
+  cv::log(log_z, log_z);
+  cv::Mat flood_mask = floodBarrier(has_depth & (z <= farthest));
+  const double log_step = std::log1p(step);
+  const float seed_lo = median / float(1 + step), seed_hi = median * float(1 + step);
+  const int flags = 4 | cv::FLOODFILL_MASK_ONLY | (255 << 8);
+  const cv::Rect seeds = inner & around;
+  for (int v = seeds.y; v < seeds.br().y; ++v) {
+    const float* row = depth_m.ptr<float>(v);
+    for (int u = seeds.x; u < seeds.br().x; ++u) {
+      if (row[u] < seed_lo || row[u] > seed_hi) continue;
+      const cv::Point s(u - around.x, v - around.y);
+      if (flood_mask.at<uchar>(s.y + 1, s.x + 1)) continue;  // already grown (or a barrier)
+      cv::floodFill(log_z, flood_mask, s, cv::Scalar(), nullptr, cv::Scalar(log_step), cv::Scalar(log_step), flags);
+    }
+  }
+  cv::Mat object = flood_mask(cv::Rect(1, 1, around.width, around.height)) == 255;
+  object |= z <= median;  // nearer, and no depth (0)
+  return object;
+}
 }  // namespace
 
 BoxMask rasterizeBoxes(const std::vector<Detection>& boxes, cv::Size image, double margin) {
@@ -128,6 +164,7 @@ BoxMask objectMaskInBoxes(const std::vector<Detection>& boxes, const cv::Mat& bg
     const cv::Rect around = cv::Rect(widened.x - r, widened.y - r, widened.width + 2 * r, widened.height + 2 * r) & frame;
     cv::Mat object;
     if (params.colour) object = colourObject(d.box, around, bgr, depth_m, *mid, farthest);
+    if (params.region) object = regionObject(inner, around, depth_m, *mid, farthest, params.region_step);
     if (object.empty()) cv::compare(depth_m(around), farthest, object, cv::CMP_LE);  // no depth (0) too
     if (r > 0) cv::dilate(object, object, kernel);
     out |= object(widened - around.tl());
@@ -256,13 +293,6 @@ std::vector<cv::Point> findOcclusionEvidence(const Pose& T_cw, const cv::Mat& de
     }
   }
   return seeds;
-}
-
-/// floodFill's mask: 0 inside `region` (where growing may go), 1 elsewhere, with the 1-pixel border.
-cv::Mat floodBarrier(const cv::Mat& region) {
-  cv::Mat flood_mask(region.rows + 2, region.cols + 2, CV_8U, cv::Scalar(1));
-  flood_mask(cv::Rect(1, 1, region.cols, region.rows)).setTo(0, region);
-  return flood_mask;
 }
 }  // namespace
 

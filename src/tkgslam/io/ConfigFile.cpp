@@ -175,6 +175,8 @@ void forEachKey(Config& c, Visit&& key) {
   key("dynamic", "object_behind_per_size", dy.object.behind_per_size, false);
   key("dynamic", "object_radius", dy.object.radius, false);
   key("dynamic", "object_colour", dy.object.colour, false);
+  key("dynamic", "object_region", dy.object.region, false);
+  key("dynamic", "object_region_step", dy.object.region_step, false);
   key("dynamic", "box_flow", dy.box_flow, false);
   key("dynamic", "lookahead", dy.lookahead, false);
   key("dynamic", "detector_tiles", dy.detector_tiles, false);
@@ -343,6 +345,12 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
   require(c.dynamic.object.behind_per_size >= 0, source, "dynamic.object_behind_per_size must be >= 0");
   require(!c.dynamic.object.colour || c.dynamic.object_mask, source,
           "dynamic.object_colour needs dynamic.object_mask: true (it refines the object mask)");
+  require(!c.dynamic.object.region || c.dynamic.object_mask, source,
+          "dynamic.object_region needs dynamic.object_mask: true (it refines the object mask)");
+  require(!(c.dynamic.object.region && c.dynamic.object.colour), source,
+          "dynamic.object_region and dynamic.object_colour are two ways to segment the object: choose one");
+  require(c.dynamic.object.region_step > 0 && c.dynamic.object.region_step <= 1, source,
+          "dynamic.object_region_step must be in (0, 1] (a share of the depth)");
   require(c.dynamic.object.radius >= 0 && c.dynamic.object.radius <= 64, source,
           "dynamic.object_radius must be in [0, 64] px");
   require(c.dynamic.refill_ratio >= 0 && c.dynamic.refill_ratio <= 1, source, "dynamic.refill_ratio must be in [0, 1]");
