@@ -111,6 +111,15 @@ TEST(CompositeSequence, TkgStaysCloseToTheStaticOriginalWhileOrbSuffers) {
   const auto dropped = perFrame(tmp / "tkg", "dropped"), dropped_object = perFrame(tmp / "tkg_object", "dropped");
   EXPECT_LT(std::accumulate(dropped_object.begin(), dropped_object.end(), 0.0),
             std::accumulate(dropped.begin(), dropped.end(), 0.0));
+  // The object as the region a depth edge bounds: the same gates, the people's keypoints still
+  // dropped, and the pose as close to the static original's as with the boxes.
+  const double ate_region = runTkg("tkg_region", "--object-mask region");
+  RecordProperty("ate_tkg_region", std::to_string(ate_region));
+  EXPECT_EQ(perFrame(tmp / "tkg_region", "T"), perFrame(tmp / "tkg", "T"));
+  EXPECT_LE(ate_region, 1.5 * ate_static) << "static " << ate_static << " TKG region " << ate_region;
+  const double recall_region = recallOf(tmp / "tkg_region");
+  RecordProperty("recall_region", std::to_string(recall_region));
+  EXPECT_GT(recall_region, 0.6);
 
   // Asynchronous detection (every 8th frame, used 8 frames later): boxes follow the people by
   // optical flow in between, late detections erase the map points made on them meanwhile. Less
