@@ -163,8 +163,11 @@ BoxMask objectMaskInBoxes(const std::vector<Detection>& boxes, const cv::Mat& bg
     // sees them), then dilated and cut back to the widened box.
     const cv::Rect around = cv::Rect(widened.x - r, widened.y - r, widened.width + 2 * r, widened.height + 2 * r) & frame;
     cv::Mat object;
-    if (params.colour) object = colourObject(d.box, around, bgr, depth_m, *mid, farthest);
-    if (params.region) object = regionObject(inner, around, depth_m, *mid, farthest, params.region_step);
+    if (params.region) {
+      object = regionObject(inner, around, depth_m, *mid, farthest, params.region_step);
+    } else if (params.colour) {
+      object = colourObject(d.box, around, bgr, depth_m, *mid, farthest);
+    }
     if (object.empty()) cv::compare(depth_m(around), farthest, object, cv::CMP_LE);  // no depth (0) too
     if (r > 0) cv::dilate(object, object, kernel);
     out |= object(widened - around.tl());

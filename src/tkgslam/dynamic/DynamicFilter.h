@@ -71,9 +71,9 @@ struct ObjectMaskParams {
   bool colour = false;
   /// Segment the object as the depth-connected region around its median depth (see objectMaskInBoxes).
   bool region = false;
-  /// Region growing: the largest depth step between neighbouring pixels 2 px apart inside one
-  /// object, as a share of the depth (a body's surface changes by ~1 %; its outline against the
-  /// background by tens of %).
+  /// Region growing: the largest depth step between neighbouring pixels inside one object, as a
+  /// share of the depth (across a body's surface a pixel's step is well under 1 %; its outline
+  /// against the background is tens of %).
   double region_step = 0.05;
 };
 /// Where in the boxes the objects may be, from depth (not in the paper). Each box's object is at the
@@ -89,7 +89,7 @@ struct ObjectMaskParams {
 /// of the median certain object, the rest probable object (in the box) or background (around it).
 /// Background nearer than `behind` is then left out too. Falls back to the depth mask where GrabCut
 /// has too few seeds of one side or fails.
-/// With `params.region`, the object is the region grown (4-neighbours, half resolution) from the
+/// With `params.region`, the object is the region grown (4-neighbours, full resolution) from the
 /// pixels of the box's central half within `region_step` of the median, through neighbours whose
 /// depths differ by at most `region_step` x depth, within `behind` and the widened box plus the
 /// radius; nearer pixels and those without depth stay in the mask (a median that fell on the
