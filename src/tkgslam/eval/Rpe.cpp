@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include <fmt/format.h>
 
@@ -32,16 +33,14 @@ Track toTrack(const std::vector<io::TrajectoryEntry>& traj) {
 std::vector<double> indexAlong(const Track& est, DeltaUnit unit) {
   if (unit == DeltaUnit::Seconds) return est.stamps;
   std::vector<double> index(est.stamps.size(), 0.0);
+  if (unit == DeltaUnit::Frames) {
+    std::iota(index.begin(), index.end(), 0.0);
+    return index;
+  }
   for (size_t k = 1; k < index.size(); ++k) {
-    if (unit == DeltaUnit::Frames) {
-      index[k] = double(k);
-      continue;
-    }
     const Pose step = est.poses[k - 1].inverse() * est.poses[k];
-    const double angle = rotationAngle(step.linear());
-    index[k] = index[k - 1] + (unit == DeltaUnit::Metres    ? step.translation().norm()
-                               : unit == DeltaUnit::Radians ? angle
-                                                            : angle * 180.0 / M_PI);
+    const double travelled = unit == DeltaUnit::Metres ? step.translation().norm() : rotationAngle(step.linear());
+    index[k] = index[k - 1] + (unit == DeltaUnit::Degrees ? travelled * 180.0 / M_PI : travelled);
   }
   return index;
 }
