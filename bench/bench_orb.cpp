@@ -1,6 +1,7 @@
 // Benchmarks of the per-frame hot path on real fr1_xyz images: ORB extraction (640x480, 1000
 // features, 8 levels), frame feature construction, the blur measure, and descriptor matching
-// between two frames; and of local bundle adjustment on a synthetic window of its usual size.
+// between two frames; of local bundle adjustment on a synthetic window of its usual size; and of
+// place recognition (vocabulary training and a keyframe-index query over 50 keyframes).
 // Run: build/bin/tkgslam_bench   (needs ../shared next to the repository)
 #include <filesystem>
 
@@ -12,6 +13,7 @@
 #include "tkgslam/io/ConfigFile.h"
 #include "tkgslam/io/TumDataset.h"
 #include "tkgslam/match/OrbMatcher.h"
+#include "tkgslam/place/KeyFrameIndex.h"
 #include "optimize/SyntheticBundle.h"  // tests/
 
 namespace {
@@ -122,6 +124,45 @@ void BM_LocalBundleAdjustment(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_LocalBundleAdjustment)->Unit(benchmark::kMillisecond);
+
+// Descriptors of 50 fr1_xyz frames 15 apart: a map's worth of keyframes (the whole sequence's
+// map has ~51).
+struct PlaceFixture {
+  std::vector<cv::Mat> keyframes;
+  cv::Mat all, query;
+  PlaceFixture() {
+    auto& f = fixture();
+    if (!f.ok) return;
+    io::TumDataset ds((std::filesystem::path(TKGSLAM_SOURCE_DIR).parent_path() /
+                       "shared/datasets/rgbd_dataset_freiburg1_xyz").string());
+    for (size_t i = 0; i < 50; ++i) keyframes.push_back(f.extractor->extract(ds.load(i * 15).gray).descriptors);
+    cv::vconcat(keyframes, all);
+    query = f.extractor->extract(f.b.gray).descriptors;
+  }
+};
+
+PlaceFixture& placeFixture() {
+  static PlaceFixture p;
+  return p;
+}
+
+void BM_VocabularyTraining(benchmark::State& state) {
+  auto& p = placeFixture();
+  if (p.keyframes.empty()) return state.SkipWithError("../shared/datasets/rgbd_dataset_freiburg1_xyz not found");
+  int words = 0;
+  for (auto _ : state) words = place::Vocabulary::train(p.all).words();
+  state.counters["descriptors"] = p.all.rows;
+  state.counters["words"] = words;
+}
+BENCHMARK(BM_VocabularyTraining)->Unit(benchmark::kMillisecond);
+
+void BM_KeyFrameIndexQuery(benchmark::State& state) {
+  auto& p = placeFixture();
+  if (p.keyframes.empty()) return state.SkipWithError("../shared/datasets/rgbd_dataset_freiburg1_xyz not found");
+  const place::KeyFrameIndex index(place::Vocabulary::train(p.all), p.keyframes);
+  for (auto _ : state) benchmark::DoNotOptimize(index.query(p.query, 20));
+}
+BENCHMARK(BM_KeyFrameIndexQuery)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
