@@ -110,6 +110,16 @@ TEST(ConfigFile, LoopClosingSection) {
   EXPECT_NE(errorOf(std::string(kMinimal) + "loop: {enable: true}").find("unknown key 'loop.enable'"), std::string::npos);
 }
 
+TEST(ConfigFile, RelocalisationCandidatesAreACountOrZeroForEveryKeyFrame) {
+  EXPECT_EQ(io::parseConfig(kMinimal, "x").tracking.relocalization_candidates, 20);
+  EXPECT_EQ(io::parseConfig(std::string(kMinimal) + "tracking: {relocalization_candidates: 0}", "x")
+                .tracking.relocalization_candidates,
+            0);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "tracking: {relocalization_candidates: -1}")
+                .find("tracking.relocalization_candidates must be >= 0"),
+            std::string::npos);
+}
+
 TEST(ConfigFile, MappingKeyFrameHold) {
   const auto defaults = io::parseConfig(kMinimal, "x");
   EXPECT_DOUBLE_EQ(defaults.mapping.max_keyframe_shift_m, 0);  // off by default

@@ -102,6 +102,20 @@ TEST_F(LoadedMap, LocalizationOnlyTracksWithoutChangingTheMap) {
   EXPECT_EQ(slam.trajectory().size(), 40u);
 }
 
+TEST_F(LoadedMap, LocalizationFindsTheCameraTryingOnlyTheMostSimilarKeyFrame) {
+  // The index ranks the loaded keyframes by their words; one candidate is enough where the
+  // camera sees what the map saw - at the start of the mapped frames as at their end.
+  for (int first : {0, 30, 60}) {
+    SlamConfig c = orbConfig();
+    c.tracking.relocalization_candidates = 1;
+    SlamSystem slam(c);
+    slam.loadMap((tmp_ / "map.tkgmap").string(), true);
+    const auto out = runFrames(slam, first, 10, false);
+    ASSERT_EQ(out.size(), 10u);
+    for (const auto& f : out) EXPECT_TRUE(f.result.tracked) << "from frame " << first << ", frame " << f.index;
+  }
+}
+
 TEST_F(LoadedMap, LocalizationOnlyKeepsRelocalisingInsteadOfStartingASegment) {
   SlamSystem slam(orbConfig());
   slam.loadMap((tmp_ / "map.tkgmap").string(), true);

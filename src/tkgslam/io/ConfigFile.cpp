@@ -137,6 +137,7 @@ void forEachKey(Config& c, Visit&& key) {
   key("tracking", "min_tracked_inliers", tr.min_tracked_inliers, false);
   key("tracking", "max_frames_between_keyframes", tr.max_frames_between_keyframes, false);
   key("tracking", "relocalization_attempts", tr.relocalization_attempts, false);
+  key("tracking", "relocalization_candidates", tr.relocalization_candidates, false);
   key("tracking", "max_predicted_frames", tr.max_predicted_frames, false);
   key("tracking", "reanchor_segments", tr.reanchor_segments, false);
   key("tracking", "blur_ratio", tr.blur_ratio, false);
@@ -308,6 +309,8 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
   require(c.tracking.max_frames_between_keyframes >= 0, source,
           "tracking.max_frames_between_keyframes must be >= 0");
   require(c.tracking.relocalization_attempts >= 0, source, "tracking.relocalization_attempts must be >= 0");
+  require(c.tracking.relocalization_candidates >= 0, source,
+          "tracking.relocalization_candidates must be >= 0 (0 = every keyframe)");
   require(c.tracking.max_predicted_frames >= 0 && c.tracking.max_predicted_frames <= 30, source,
           "tracking.max_predicted_frames must be in [0, 30]");
   require(c.tracking.blur_ratio >= 0 && c.tracking.blur_ratio < 1, source, "tracking.blur_ratio must be in [0, 1)");

@@ -18,6 +18,9 @@ struct TrackingParams {
   int min_tracked_inliers = 30;    ///< below this after local-map tracking, the frame is lost
   int max_frames_between_keyframes = 30;  ///< 0 = camera fps
   int relocalization_attempts = 5; ///< lost frames before a new map segment is started
+  /// Keyframes of a loaded map a lost frame is tried against: the most similar ones by their
+  /// words (place::KeyFrameIndex). 0 = every keyframe, newest first, as before the index.
+  int relocalization_candidates = 20;
   /// Untrackable frames in a row given the constant-velocity prediction (marked "predicted" in
   /// frame_log.txt) before the camera counts as lost; 0 = lost at the first one (ORB-SLAM2).
   int max_predicted_frames = 3;

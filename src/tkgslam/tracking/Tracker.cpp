@@ -1,12 +1,14 @@
 #include "tkgslam/tracking/Tracker.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <map>
 #include <mutex>
 
 #include <spdlog/spdlog.h>
 
+#include "tkgslam/common/Elapsed.h"
 #include "tkgslam/optimize/FramePose.h"
 
 namespace tkgslam::tracking {
@@ -198,7 +200,7 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     // where the camera was last seen. (On frames too poor to start one - the camera covered, no
     // depth - the old map is kept for relocalisation.)
     frame.T_cw = last_frame_ ? last_frame_->T_cw : Pose::Identity();
-    relocalize_in_whole_map_ = false;
+    searchRecentKeyFramesOnly();
     spdlog::warn("tracking lost for {} frames; starting a new map segment at frame {}", lost_frames_, frame.id);
     // Re-anchor candidates: this segment's last keyframes, and those of the segment before if
     // this one never found it (a short segment on blurred frames must not hide a long one).
@@ -592,15 +594,56 @@ void Tracker::startInLoadedMap(bool localization_only) {
   state_ = TrackingState::Lost;
   relocalize_in_whole_map_ = true;
   localization_only_ = localization_only;
+  loaded_index_.reset();
+  loaded_keyframes_.clear();
+  if (cfg_.tracking.relocalization_candidates == 0) return;
+  // The vocabulary is trained on the map's own descriptors: no vocabulary file to ship, and its
+  // words are those of the place the map shows.
+  std::vector<cv::Mat> descriptors;
+  std::vector<std::vector<char>> excluded;
+  for (const auto& kf : map_.keyFrames()) {
+    if (kf->bad || !kf->features) continue;
+    loaded_keyframes_.push_back(kf);
+    descriptors.push_back(kf->features->descriptors);
+    excluded.push_back(kf->features->excluded);
+  }
+  if (loaded_keyframes_.empty()) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  cv::Mat all;
+  cv::vconcat(descriptors, all);
+  loaded_index_ = std::make_unique<place::KeyFrameIndex>(place::Vocabulary::train(all), descriptors, excluded);
+  spdlog::info("loaded map: {} keyframes indexed for relocalisation ({} words) in {:.0f} ms", loaded_keyframes_.size(),
+               loaded_index_->vocabulary().words(), msSince(t0));
+}
+
+void Tracker::searchRecentKeyFramesOnly() {
+  relocalize_in_whole_map_ = false;
+  loaded_index_.reset();  // its keyframes are not searched any more: let them go
+  loaded_keyframes_.clear();
+}
+
+std::vector<std::shared_ptr<KeyFrame>> Tracker::relocalizationCandidates(const Frame& frame) const {
+  auto kfs = map_.keyFrames();
+  std::vector<std::shared_ptr<KeyFrame>> out;
+  if (loaded_index_ && relocalize_in_whole_map_) {
+    const auto& F = *frame.features;
+    for (const auto& c : loaded_index_->query(F.descriptors, size_t(cfg_.tracking.relocalization_candidates), F.excluded)) {
+      const auto& kf = loaded_keyframes_[size_t(c.index)];
+      if (!kf->bad) out.push_back(kf);
+    }
+    // Keyframes made since the map was loaded are not in the index: newest first after it.
+    const long newest_loaded = loaded_keyframes_.back()->id;
+    for (size_t k = kfs.size(); k-- > 0 && kfs[k]->id > newest_loaded;) out.push_back(kfs[k]);
+    return out;
+  }
+  // The most recent keyframes of the active map (all of a loaded one, newest first).
+  const size_t first = kfs.size() > 30 && !relocalize_in_whole_map_ ? kfs.size() - 30 : 0;
+  for (size_t k = kfs.size(); k-- > first;) out.push_back(kfs[k]);
+  return out;
 }
 
 bool Tracker::relocalize(Frame& frame) {
-  // Candidates: the most recent keyframes of the active map (all of a loaded one, newest first).
-  auto kfs = map_.keyFrames();
-  if (kfs.empty()) return false;
-  const size_t first = kfs.size() > 30 && !relocalize_in_whole_map_ ? kfs.size() - 30 : 0;
-  for (size_t k = kfs.size(); k-- > first;) {
-    const auto& kf = kfs[k];
+  for (const auto& kf : relocalizationCandidates(frame)) {
     std::vector<std::shared_ptr<MapPoint>> matches;
     if (matcher_.searchByDescriptors(*kf, frame, matches) < 15) continue;
     Pose T;
@@ -613,7 +656,7 @@ bool Tracker::relocalize(Frame& frame) {
     reference_kf_ = kf;
     if (!last_kf_) last_kf_ = kf;
     // (Localisation only: the map is the loaded one, and all of it stays the place to look.)
-    relocalize_in_whole_map_ = localization_only_;
+    if (!localization_only_) searchRecentKeyFramesOnly();
     last_reloc_frame_ = frame.id;
     spdlog::info("relocalised at frame {} against keyframe {}", frame.id, kf->id);
     return true;

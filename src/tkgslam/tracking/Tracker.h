@@ -16,6 +16,7 @@
 #include "tkgslam/feature/ScalePyramid.h"
 #include "tkgslam/match/OrbMatcher.h"
 #include "tkgslam/optimize/PoseOptimizer.h"
+#include "tkgslam/place/KeyFrameIndex.h"
 #include "tkgslam/system/SlamConfig.h"
 
 namespace tkgslam::tracking {
@@ -82,8 +83,10 @@ class Tracker {
   /// failing, a new map segment starts as after any loss (at the identity: no pose is known),
   /// re-anchored to the loaded map's last keyframes once it sees what they saw. Call before the
   /// first frame. `localization_only`: the map is only tracked against, never changed - no
-  /// keyframes, no map points, no new segment when lost; lost frames keep relocalising against
-  /// all of its keyframes until the camera is found again.
+  /// keyframes, no map points, no new segment when lost; lost frames keep relocalising in the
+  /// whole map until the camera is found again. The loaded keyframes are indexed by their words
+  /// (place::KeyFrameIndex, a vocabulary trained on their own descriptors), so a lost frame tries
+  /// only the most similar ones (`tracking.relocalization_candidates`). Map lock held.
   void startInLoadedMap(bool localization_only = false);
   /// An image of this sharpness (feature::imageSharpness) would count as motion-blurred now
   /// (TrackingParams::blur_ratio of the recent sharp frames' median). Call from the tracking thread.
@@ -107,6 +110,11 @@ class Tracker {
   bool trackWithMotionModel(data::Frame& frame);
   bool trackReferenceKeyFrame(data::Frame& frame);
   bool relocalize(data::Frame& frame);
+  /// The keyframes a lost frame tries, in order: a loaded map's most similar ones (index), then
+  /// the recent ones the index does not hold (all of them while searching the whole map).
+  std::vector<std::shared_ptr<data::KeyFrame>> relocalizationCandidates(const data::Frame& frame) const;
+  /// Relocalisation goes back to the recent keyframes (found in the loaded map, or a new segment).
+  void searchRecentKeyFramesOnly();
   /// A new map segment started at the last known pose, off by however far the camera moved while
   /// lost. Once a new keyframe sees what one of the previous segment's last keyframes saw, the
   /// segment is moved into the previous segment's world frame (one rigid correction), so both
@@ -154,6 +162,8 @@ class Tracker {
   long last_reloc_frame_ = -1000;
   bool relocalize_in_whole_map_ = false;  ///< see startInLoadedMap()
   bool localization_only_ = false;        ///< see startInLoadedMap()
+  std::unique_ptr<place::KeyFrameIndex> loaded_index_;                ///< a loaded map's keyframes by words
+  std::vector<std::shared_ptr<data::KeyFrame>> loaded_keyframes_;     ///< per index position
   int lost_frames_ = 0;
   /// Timestamps of the frames lost since the last tracked one, while relocalisation may still
   /// find the camera soon enough for them to be interpolated (at most relocalization_attempts).
