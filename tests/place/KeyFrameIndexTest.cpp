@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "TestSupport.h"
+#include "tkgslam/common/Error.h"
 #include "tkgslam/feature/OrbExtractor.h"
 #include "tkgslam/place/KeyFrameIndex.h"
 
@@ -78,6 +79,15 @@ TEST(KeyFrameIndex, LeavesOutExcludedKeypointsAndAnswersNothingForNoWords) {
   const place::KeyFrameIndex without(place::Vocabulary::train(all), keyframes,
                                      {std::vector<char>(size_t(keyframes[0].rows), 1), {}});
   for (const auto& c : without.query(keyframes[0], 5)) EXPECT_NE(c.index, 0);
+  // Not ORB descriptors, or flags that do not match the rows: refused, not read past the end.
+  EXPECT_THROW(index.query(cv::Mat(3, 16, CV_8U, cv::Scalar(0)), 5), InputError);
+  EXPECT_THROW(index.query(q, 5, std::vector<char>(3, 0)), InputError);
+  EXPECT_THROW(place::KeyFrameIndex(place::Vocabulary::train(all), {cv::Mat(2, 32, CV_32F, cv::Scalar(0))}), InputError);
+  // A keyframe without descriptors is indexed with an empty bag.
+  const place::KeyFrameIndex with_empty(place::Vocabulary::train(all), {cv::Mat(), keyframes[1]});
+  const auto found = with_empty.query(keyframes[1], 5);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].index, 1);
 }
 
 }  // namespace

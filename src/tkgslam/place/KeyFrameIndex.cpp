@@ -4,11 +4,17 @@
 #include <cmath>
 #include <map>
 
+#include "tkgslam/common/Error.h"
+
 namespace tkgslam::place {
 namespace {
 
 // Word counts of the rows not excluded.
 std::map<int, int> countWords(const Vocabulary& voc, const cv::Mat& descriptors, const std::vector<char>& excluded) {
+  if (!descriptors.empty() && (descriptors.type() != CV_8U || descriptors.cols != 32))
+    throw InputError("keyframe index: descriptors must be N x 32 CV_8U rows");
+  if (!excluded.empty() && excluded.size() != size_t(descriptors.rows))
+    throw InputError("keyframe index: one exclusion flag per descriptor row is needed");
   std::map<int, int> counts;
   for (int i = 0; i < descriptors.rows; ++i) {
     if (!excluded.empty() && excluded[size_t(i)]) continue;

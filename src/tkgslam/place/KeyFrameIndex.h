@@ -25,7 +25,8 @@ struct PlaceCandidate {
 class KeyFrameIndex {
  public:
   /// `descriptors[i]`: keyframe i's ORB descriptors (N x 32 CV_8U rows); `excluded[i]`, if not
-  /// empty, marks rows to leave out (e.g. keypoints on people).
+  /// empty, marks rows to leave out (e.g. keypoints on people), one flag per row. Throws
+  /// InputError on other shapes.
   KeyFrameIndex(Vocabulary vocabulary, const std::vector<cv::Mat>& descriptors,
                 const std::vector<std::vector<char>>& excluded = {});
 

@@ -601,16 +601,21 @@ void Tracker::startInLoadedMap(bool localization_only) {
   // words are those of the place the map shows.
   std::vector<cv::Mat> descriptors;
   std::vector<std::vector<char>> excluded;
+  std::vector<cv::Mat> training;  // vconcat refuses empty blocks
   for (const auto& kf : map_.keyFrames()) {
     if (kf->bad || !kf->features) continue;
     loaded_keyframes_.push_back(kf);
     descriptors.push_back(kf->features->descriptors);
     excluded.push_back(kf->features->excluded);
+    if (!descriptors.back().empty()) training.push_back(descriptors.back());
   }
-  if (loaded_keyframes_.empty()) return;
+  if (training.empty()) {
+    loaded_keyframes_.clear();  // nothing to index: every keyframe is tried, as without an index
+    return;
+  }
   const auto t0 = std::chrono::steady_clock::now();
   cv::Mat all;
-  cv::vconcat(descriptors, all);
+  cv::vconcat(training, all);
   loaded_index_ = std::make_unique<place::KeyFrameIndex>(place::Vocabulary::train(all), descriptors, excluded);
   spdlog::info("loaded map: {} keyframes indexed for relocalisation ({} words) in {:.0f} ms", loaded_keyframes_.size(),
                loaded_index_->vocabulary().words(), msSince(t0));
