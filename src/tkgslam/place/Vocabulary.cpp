@@ -95,8 +95,7 @@ Vocabulary Vocabulary::train(const cv::Mat& descriptors, const VocabularyOptions
   const int n = descriptors.rows;
   const int step = std::max(1, (n + o.max_training - 1) / o.max_training);
   for (int i = 0; i < n; i += step) members.push_back(descriptors.ptr<uint8_t>(i));
-  v.nodes_.emplace_back();
-  v.nodes_[0].centre = majority(members);
+  v.nodes_.emplace_back();  // the root: its centre is never compared with
   unsigned seed = o.seed;
   v.split(0, members, 0, o, seed);
   return v;
