@@ -24,12 +24,13 @@ struct Fixture {
   SlamConfig config;
   std::unique_ptr<camera::PinholeCamera> camera;
   std::unique_ptr<feature::OrbExtractor> extractor;
+  std::filesystem::path seq;  ///< fr1_xyz
   io::RgbdImages a, b;
   bool ok = false;
 
   Fixture() {
     const std::filesystem::path root(TKGSLAM_SOURCE_DIR);
-    const auto seq = root.parent_path() / "shared/datasets/rgbd_dataset_freiburg1_xyz";
+    seq = root.parent_path() / "shared/datasets/rgbd_dataset_freiburg1_xyz";
     if (!std::filesystem::is_directory(seq)) return;
     config = io::loadConfig((root / "configs/tum_fr1.yaml").string());
     camera = std::make_unique<camera::PinholeCamera>(config.camera);
@@ -133,8 +134,7 @@ struct PlaceFixture {
   PlaceFixture() {
     auto& f = fixture();
     if (!f.ok) return;
-    io::TumDataset ds((std::filesystem::path(TKGSLAM_SOURCE_DIR).parent_path() /
-                       "shared/datasets/rgbd_dataset_freiburg1_xyz").string());
+    io::TumDataset ds(f.seq.string());
     for (size_t i = 0; i < 50; ++i) keyframes.push_back(f.extractor->extract(ds.load(i * 15).gray).descriptors);
     cv::vconcat(keyframes, all);
     query = f.extractor->extract(f.b.gray).descriptors;

@@ -42,26 +42,15 @@ KeyFrameIndex::KeyFrameIndex(Vocabulary vocabulary, const std::vector<cv::Mat>& 
     if (keyframes_with[w] > 0) idf_[w] = float(std::log(n / keyframes_with[w]));
   }
   for (size_t k = 0; k < counts.size(); ++k) {
-    BagOfWords bag;
-    double total = 0;
-    for (const auto& [w, c] : counts[k]) {
-      const float weight = float(c) * idf_[size_t(w)];
-      if (weight <= 0) continue;
-      bag.emplace_back(w, weight);
-      total += weight;
-    }
-    for (auto& [w, weight] : bag) {
-      weight = float(weight / total);
-      inverted_[size_t(w)].emplace_back(int(k), weight);
-    }
-    bags_.push_back(std::move(bag));
+    bags_.push_back(weigh(counts[k]));
+    for (const auto& [w, weight] : bags_.back()) inverted_[size_t(w)].emplace_back(int(k), weight);
   }
 }
 
-BagOfWords KeyFrameIndex::bagOf(const cv::Mat& descriptors, const std::vector<char>& excluded) const {
+BagOfWords KeyFrameIndex::weigh(const std::map<int, int>& counts) const {
   BagOfWords bag;
   double total = 0;
-  for (const auto& [w, c] : countWords(vocabulary_, descriptors, excluded)) {
+  for (const auto& [w, c] : counts) {
     const float weight = float(c) * idf_[size_t(w)];
     if (weight <= 0) continue;
     bag.emplace_back(w, weight);
@@ -76,7 +65,7 @@ std::vector<PlaceCandidate> KeyFrameIndex::query(const cv::Mat& descriptors, siz
   // For bags that each sum to 1, DBoW2's L1 score 1 - |a - b|_1 / 2 is half the sum, over the
   // words both have, of |a| + |b| - |a - b|: only the inverted file's entries are visited.
   std::vector<double> score(bags_.size(), 0.0);
-  for (const auto& [w, a] : bagOf(descriptors, excluded)) {
+  for (const auto& [w, a] : weigh(countWords(vocabulary_, descriptors, excluded))) {
     for (const auto& [k, b] : inverted_[size_t(w)]) score[size_t(k)] += a + b - std::abs(a - b);
   }
   std::vector<PlaceCandidate> out;

@@ -5,6 +5,7 @@
 // loaded map. Built once over a fixed set of keyframes (they are referred to by their position
 // in that set).
 #include <cstdint>
+#include <map>
 #include <utility>
 #include <vector>
 
@@ -38,7 +39,8 @@ class KeyFrameIndex {
   std::vector<PlaceCandidate> query(const cv::Mat& descriptors, size_t n, const std::vector<char>& excluded = {}) const;
 
  private:
-  BagOfWords bagOf(const cv::Mat& descriptors, const std::vector<char>& excluded) const;
+  /// Word counts weighted by idf and normalised to sum 1 (words of idf 0 left out).
+  BagOfWords weigh(const std::map<int, int>& counts) const;
 
   Vocabulary vocabulary_;
   std::vector<float> idf_;                                   ///< per word: log(keyframes / keyframes with it)

@@ -111,22 +111,27 @@ void Vocabulary::split(int node, std::vector<const uint8_t*>& members, int level
   const int k = int(std::min<size_t>(size_t(o.branching), members.size()));
   auto centres = seedCentres(members, k, rng);
   const int m = int(centres.size());
+  // k-majority: assign, then move each centre to its members' majority, until nothing moves.
   std::vector<int> owner(members.size(), -1);
+  std::vector<std::vector<const uint8_t*>> parts(m);
+  bool settled = false;
   for (int it = 0; it < o.iterations; ++it) {
-    bool changed = false;
+    settled = true;
+    for (auto& p : parts) p.clear();
     for (size_t i = 0; i < members.size(); ++i) {
       const int c = nearest(members[i], centres.data(), m);
-      changed |= c != owner[i];
+      settled &= c == owner[i];
       owner[i] = c;
+      parts[c].push_back(members[i]);
     }
-    if (!changed) break;
+    if (settled) break;
     for (int c = 0; c < m; ++c) {
-      std::vector<const uint8_t*> in;
-      for (size_t i = 0; i < members.size(); ++i) {
-        if (owner[i] == c) in.push_back(members[i]);
-      }
-      if (!in.empty()) centres[c] = majority(in);
+      if (!parts[c].empty()) centres[c] = majority(parts[c]);
     }
+  }
+  if (!settled) {  // the last update moved the centres: the members go to the nearest of those
+    for (auto& p : parts) p.clear();
+    for (const uint8_t* d : members) parts[nearest(d, centres.data(), m)].push_back(d);
   }
   const int first = int(nodes_.size());
   nodes_[node].first_child = first;
@@ -135,8 +140,6 @@ void Vocabulary::split(int node, std::vector<const uint8_t*>& members, int level
     nodes_.emplace_back();
     nodes_[first + c].centre = centres[c];
   }
-  std::vector<std::vector<const uint8_t*>> parts(m);
-  for (size_t i = 0; i < members.size(); ++i) parts[nearest(members[i], centres.data(), m)].push_back(members[i]);
   std::vector<const uint8_t*>().swap(members);  // the parts hold them now
   for (int c = 0; c < m; ++c) split(first + c, parts[c], level + 1, o, seed);
 }
