@@ -1,4 +1,5 @@
 // tkgslam run: SLAM on a TUM-layout RGB-D sequence; writes trajectory, keyframes, map, timings.
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -328,10 +329,12 @@ int runSlam(const RunOptions& o) {
                 "mapping.max_keyframe_shift_m / _deg)\n", held);
   }
   if (const auto ls = slam.loopStats(); ls.closed > 0) {
-    std::printf("loops closed: %d (loops found %d, %d of them where the map already had the camera; %.1f ms per "
-                "keyframe checked; %d global bundle adjustment(s), the last %.0f ms)\n",
-                ls.closed, ls.detected + ls.consistent, ls.consistent,
-                ls.keyframes_checked ? ls.total_ms / ls.keyframes_checked : 0.0, ls.global_bundles, ls.last_global_ba_ms);
+    const double checked = std::max(ls.keyframes_checked, 1);
+    std::printf("loops closed: %d (loops found %d, %d of them where the map already had the camera; per keyframe "
+                "checked %.1f ms and %.1f old keyframes matched%s; %d global bundle adjustment(s), the last %.0f ms)\n",
+                ls.closed, ls.detected + ls.consistent, ls.consistent, ls.total_ms / checked,
+                ls.candidates_considered / checked, ls.vocabulary_trainings ? ", the most similar by words" : "",
+                ls.global_bundles, ls.last_global_ba_ms);
   }
   std::printf("time per frame: mean %.1f ms, median %.1f ms (ORB+tracking median %.1f ms)\n",
               slam.timing().mean("total"), slam.timing().median("total"), slam.timing().median("orb_and_tracking"));

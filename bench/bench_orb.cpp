@@ -1,7 +1,8 @@
 // Benchmarks of the per-frame hot path on real fr1_xyz images: ORB extraction (640x480, 1000
 // features, 8 levels), frame feature construction, the blur measure, and descriptor matching
 // between two frames; of local bundle adjustment on a synthetic window of its usual size; and of
-// place recognition (vocabulary training and a keyframe-index query over 50 keyframes).
+// place recognition (vocabulary training and a keyframe-index query over 50 keyframes); and of
+// loop detection for one new keyframe in maps of 50 to 400 keyframes, with and without the word index.
 // Run: build/bin/tkgslam_bench   (needs ../shared next to the repository)
 #include <filesystem>
 
@@ -13,7 +14,9 @@
 #include "tkgslam/io/ConfigFile.h"
 #include "tkgslam/io/TumDataset.h"
 #include "tkgslam/match/OrbMatcher.h"
+#include "tkgslam/loop/LoopCloser.h"
 #include "tkgslam/place/KeyFrameIndex.h"
+#include "loop/KeyFrameWithPoints.h"  // tests/
 #include "optimize/SyntheticBundle.h"  // tests/
 
 namespace {
@@ -163,6 +166,42 @@ void BM_KeyFrameIndexQuery(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(index.query(p.query, 20));
 }
 BENCHMARK(BM_KeyFrameIndexQuery)->Unit(benchmark::kMillisecond);
+
+// Loop detection for the newest keyframe of a map of range(0) keyframes (fr1_xyz frames spread
+// over the sequence, at the identity pose, no two sharing a point, so every older one is a
+// candidate), matching every candidate (range(1) = 0) or the 50 most similar by words (50). Any
+// loop found is taken as consistent with the map (huge min_correction), so the map is never
+// changed and each iteration does the same work. The word index is trained before timing.
+void BM_LoopDetection(benchmark::State& state) {
+  auto& f = fixture();
+  if (!f.ok) return state.SkipWithError("../shared/datasets/rgbd_dataset_freiburg1_xyz not found");
+  const int n = int(state.range(0));
+  SlamConfig config = f.config;
+  config.deterministic = true;
+  config.loop.word_candidates = int(state.range(1));
+  config.loop.min_correction_m = 1e9;
+  config.loop.min_correction_deg = 1e9;
+  data::Map map;
+  io::TumDataset ds(f.seq.string());
+  std::shared_ptr<data::KeyFrame> newest;
+  for (int k = 0; k < n; ++k) {
+    const int i = int(k * (ds.size() - 1) / n);
+    const auto images = ds.load(i);
+    auto features = data::makeFrameFeatures(f.extractor->extract(images.gray), images.bgr, images.depth_m, *f.camera,
+                                            config.depth);
+    newest = test::addKeyFrameWithPoints(map, features, i, images.timestamp, Pose::Identity(), *f.camera,
+                                         f.extractor->pyramid());
+  }
+  loop::LoopCloser closer(map, *f.camera, f.extractor->pyramid(), config);
+  closer.process(newest);  // trains the word index
+  for (auto _ : state) closer.process(newest);
+  const auto& s = closer.stats();
+  state.counters["matched_per_keyframe"] = double(s.candidates_considered) / s.keyframes_checked;
+}
+BENCHMARK(BM_LoopDetection)
+    ->ArgsProduct({{50, 200, 400}, {0, 50}})
+    ->ArgNames({"keyframes", "words"})
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

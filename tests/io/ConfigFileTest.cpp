@@ -120,6 +120,13 @@ TEST(ConfigFile, RelocalisationCandidatesAreACountOrZeroForEveryKeyFrame) {
             std::string::npos);
 }
 
+TEST(ConfigFile, LoopWordCandidatesAreACountOrZeroForEveryCandidate) {
+  EXPECT_EQ(io::parseConfig(kMinimal, "x").loop.word_candidates, 50);
+  EXPECT_EQ(io::parseConfig(std::string(kMinimal) + "loop: {word_candidates: 0}", "x").loop.word_candidates, 0);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "loop: {word_candidates: -3}").find("loop.word_candidates must be >= 0"),
+            std::string::npos);
+}
+
 TEST(ConfigFile, MappingKeyFrameHold) {
   const auto defaults = io::parseConfig(kMinimal, "x");
   EXPECT_DOUBLE_EQ(defaults.mapping.max_keyframe_shift_m, 0);  // off by default

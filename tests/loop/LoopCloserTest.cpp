@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "TestSupport.h"
+#include "loop/KeyFrameWithPoints.h"
 #include "tkgslam/camera/PinholeCamera.h"
 #include "tkgslam/data/FrameFeatures.h"
 #include "tkgslam/data/KeyFrame.h"
@@ -54,26 +55,23 @@ class ForkedMap : public ::testing::Test {
     const auto images = dataset_->load(i);
     auto features = data::makeFrameFeatures(extractor_->extract(images.gray), images.bgr, images.depth_m, *camera_,
                                             config_.depth);
-    auto kf = std::make_shared<data::KeyFrame>(map_.newKeyFrameId(), i, images.timestamp, features, T_cw);
-    for (int k = 0; k < features->size(); ++k) {
-      if (!features->hasDepth(k)) continue;
-      const Vec3 pw = kf->T_wc() * camera_->unproject(Vec2(features->ideal[k].pt.x, features->ideal[k].pt.y),
-                                                       features->depth[k]);
-      auto mp = std::make_shared<data::MapPoint>(map_.newMapPointId(), pw, kf.get(), features->descriptors.row(k));
-      mp->observations[kf.get()] = k;
-      kf->addMapPoint(mp, k);
-      map_.addMapPoint(mp);
-      mp->updateNormalAndDepth(extractor_->pyramid());
-    }
-    map_.addKeyFrame(kf);
-    return kf;
+    return test::addKeyFrameWithPoints(map_, features, i, images.timestamp, T_cw, *camera_, extractor_->pyramid());
   }
 
   // The old keyframe, then two new ones (frames 30 and 33; the second observes the first's points
   // so the two are covisible, as consecutive keyframes are), in the forked world or not.
-  void build(bool fork) {
+  // With `others`, keyframes of those frames (made after the old keyframe, before the new ones)
+  // at their true poses, chained to the old keyframe: more candidates for a loop, each in the true
+  // world.
+  void build(bool fork, const std::vector<int>& others = {}) {
     old_ = addKeyFrame(0, truePose(0));
     old_->not_erase = true;
+    const data::KeyFrame* previous = old_.get();
+    for (const int i : others) {
+      auto kf = addKeyFrame(i, truePose(i));
+      kf->parent = const_cast<data::KeyFrame*>(previous);  // a spanning tree, as mapping makes one
+      previous = kf.get();
+    }
     Pose G = Pose::Identity();  // true world -> forked world
     if (fork) {
       G.linear() = Eigen::AngleAxisd(10 * kDeg, Vec3(0.2, 1, 0.1).normalized()).toRotationMatrix();
@@ -217,6 +215,37 @@ TEST_F(ForkedMap, WhereTheMapAlreadyHasTheCameraNothingMoves) {
   EXPECT_GE(closer.stats().consistent, 2);  // the loop was found, and agreed with the map
   EXPECT_EQ(closer.stats().detected, 0);
   EXPECT_TRUE(second_->T_cw().isApprox(before));
+}
+
+// Frames 60, 90, ..., 660 of fr1_xyz: the same desk from elsewhere on the camera's path.
+std::vector<int> otherFrames() {
+  std::vector<int> out;
+  for (int i = 60; i <= 660; i += 30) out.push_back(i);
+  return out;
+}
+
+TEST_F(ForkedMap, InALargerMapOnlyTheMostSimilarKeyFramesAreMatched) {
+  // 22 candidates, the 2 most like each new keyframe by words matched: the loop is still found
+  // and closed.
+  build(/*fork=*/true, otherFrames());
+  config_.loop.word_candidates = 2;
+  loop::LoopCloser closer(map_, *camera_, extractor_->pyramid(), config_);
+  EXPECT_FALSE(closer.process(first_));
+  ASSERT_TRUE(closer.process(second_));
+  EXPECT_EQ(closer.stats().candidates_considered, 4);
+  EXPECT_EQ(closer.stats().vocabulary_trainings, 1);  // the map did not double in between
+  EXPECT_LT(centreError(*first_, truePose(30)), 0.02);
+  EXPECT_LT(centreError(*second_, truePose(33)), 0.02);
+}
+
+TEST_F(ForkedMap, WithoutTheWordIndexEveryCandidateIsMatched) {
+  build(/*fork=*/true, otherFrames());
+  config_.loop.word_candidates = 0;
+  loop::LoopCloser closer(map_, *camera_, extractor_->pyramid(), config_);
+  EXPECT_FALSE(closer.process(first_));
+  ASSERT_TRUE(closer.process(second_));
+  EXPECT_EQ(closer.stats().candidates_considered, 44);
+  EXPECT_EQ(closer.stats().vocabulary_trainings, 0);
 }
 
 TEST_F(ForkedMap, DisabledLoopClosingLeavesTheForkAlone) {

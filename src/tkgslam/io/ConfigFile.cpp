@@ -156,6 +156,7 @@ void forEachKey(Config& c, Visit&& key) {
   key("loop", "min_inliers", c.loop.min_inliers, false);
   key("loop", "min_keyframe_gap", c.loop.min_keyframe_gap, false);
   key("loop", "candidates", c.loop.candidates, false);
+  key("loop", "word_candidates", c.loop.word_candidates, false);
   key("loop", "min_correction_m", c.loop.min_correction_m, false);
   key("loop", "min_correction_deg", c.loop.min_correction_deg, false);
   key("loop", "global_ba_iterations", c.loop.global_ba_iterations, false);
@@ -323,6 +324,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
   require(c.loop.min_inliers >= 10, source, "loop.min_inliers must be >= 10");
   require(c.loop.min_keyframe_gap >= 1, source, "loop.min_keyframe_gap must be >= 1");
   require(c.loop.candidates >= 1, source, "loop.candidates must be >= 1");
+  require(c.loop.word_candidates >= 0, source, "loop.word_candidates must be >= 0 (0 = every candidate)");
   require(c.loop.min_correction_m >= 0, source, "loop.min_correction_m must be >= 0");
   require(c.loop.min_correction_deg >= 0, source, "loop.min_correction_deg must be >= 0");
   require(c.loop.global_ba_iterations >= 0, source, "loop.global_ba_iterations must be >= 0");

@@ -103,20 +103,58 @@ std::shared_ptr<MapPoint> LoopCloser::copyOf(const MapPoint& mp) {
   return copy;
 }
 
+std::vector<std::shared_ptr<KeyFrame>> LoopCloser::mostSimilar(const data::FrameFeatures& query,
+                                                               std::vector<std::shared_ptr<KeyFrame>> candidates) {
+  const size_t n = size_t(cfg_.loop.word_candidates);
+  if (n == 0 || candidates.size() <= n) return candidates;
+  std::vector<place::DatabaseEntry> entries;
+  {
+    std::lock_guard<std::mutex> lock(map_.mutex());
+    for (const auto& k : map_.keyFrames()) {
+      if (!k->bad && k->features) entries.push_back({k->id, k->features});
+    }
+  }
+  // Training (a fraction of a second, once the map has doubled) runs without the lock.
+  if (places_.update(entries)) {
+    ++stats_.vocabulary_trainings;
+    spdlog::debug("loop detection: vocabulary of {} words trained on {} keyframes", places_.words(), entries.size());
+  }
+  if (!places_.trained()) return candidates;  // no descriptors to learn words from
+  std::vector<long> ids;
+  for (const auto& c : candidates) ids.push_back(c->id);
+  std::sort(ids.begin(), ids.end());
+  std::vector<long> similar = places_.mostSimilar(query, n, &ids);
+  std::sort(similar.begin(), similar.end());
+  // In map order, as without the index.
+  candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
+                                  [&](const auto& c) { return !std::binary_search(similar.begin(), similar.end(), c->id); }),
+                   candidates.end());
+  return candidates;
+}
+
 std::optional<LoopCloser::Loop> LoopCloser::detect(const std::shared_ptr<KeyFrame>& kf) {
   std::shared_ptr<const data::FrameFeatures> features;
-  std::vector<std::unique_ptr<KeyFrame>> probes;
-  Loop base;
+  std::vector<std::shared_ptr<KeyFrame>> candidates;
   {
     std::lock_guard<std::mutex> lock(map_.mutex());
     if (kf->bad || !kf->features) return std::nullopt;
     features = kf->features;
+    candidates = candidatesFor(*kf);
+  }
+  candidates = mostSimilar(*features, std::move(candidates));
+  stats_.candidates_considered += int(candidates.size());
+  std::vector<std::unique_ptr<KeyFrame>> probes;
+  Loop base;
+  {
+    std::lock_guard<std::mutex> lock(map_.mutex());
+    if (kf->bad) return std::nullopt;
     base.kf = kf;
     base.T_cw_map = kf->T_cw();
     base.generation = map_.generation();
     // Copies of the candidates' best-observed points: matching runs without the lock while
     // mapping and tracking go on.
-    for (const auto& c : candidatesFor(*kf)) {
+    for (const auto& c : candidates) {
+      if (c->bad) continue;
       // Most observed first; among equals spread over the keypoint list (it is ordered by level
       // and image cell) by a fixed scrambling of the index.
       std::vector<std::tuple<int, size_t, size_t>> by_obs;

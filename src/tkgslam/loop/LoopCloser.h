@@ -1,12 +1,14 @@
 #pragma once
-// Loop closing for RGB-D (after ORB-SLAM2's LoopClosing, without a bag-of-words vocabulary).
+// Loop closing for RGB-D (after ORB-SLAM2's LoopClosing, its vocabulary learnt from the map).
 // A few wrong frames - people the detector missed, a blurred stretch - can put the camera, and
 // every keyframe made after them, in a rotated and shifted copy of the world: the map forks, and
 // tracking carries on consistently in the wrong frame because its local map holds only the new
 // branch. When the camera then sees a place an older keyframe saw, this module finds the fork
 // and closes it:
 //  - detection: each new keyframe's static keypoints are matched by descriptors against the
-//    points of the older keyframes it shares no map point with (the best-observed 300 of each);
+//    points of the older keyframes it shares no map point with (the best-observed 300 of each) -
+//    in a large map only against the loop.word_candidates of them most like it by visual words
+//    (a vocabulary trained on the map's own descriptors once needed, again when the map doubled);
 //    the best `loop.candidates` are verified: EPnP + RANSAC, the pose-only optimisation, then the
 //    old keyframe's neighbourhood searched by projection and the pose optimised again (at least
 //    loop.min_inliers inliers, depth included). A pose further than loop.min_correction_m / _deg
@@ -31,13 +33,16 @@
 #include "tkgslam/feature/ScalePyramid.h"
 #include "tkgslam/match/OrbMatcher.h"
 #include "tkgslam/optimize/PoseOptimizer.h"
+#include "tkgslam/place/KeyFrameDatabase.h"
 #include "tkgslam/system/SlamConfig.h"
 
 namespace tkgslam::loop {
 
 struct LoopStats {
   int keyframes_checked = 0;
+  int candidates_considered = 0;  ///< old keyframes matched by descriptors (summed over keyframes)
   int candidates_matched = 0;  ///< keyframe pairs verified by PnP
+  int vocabulary_trainings = 0;   ///< times the word index was (re)trained
   int consistent = 0;          ///< loops found where the map already has the camera
   int detected = 0;            ///< loops whose correction exceeded the thresholds
   int closed = 0;              ///< loops corrected
@@ -78,8 +83,13 @@ class LoopCloser {
     double angleDeg() const { return rotationAngle(correction().linear()) * 180.0 / M_PI; }
   };
 
-  /// Keyframes at least loop.min_keyframe_gap older than `kf` that share no map point with it.
+  /// Keyframes at least loop.min_keyframe_gap older than `kf` that share no map point with it
+  /// (map lock held).
   std::vector<std::shared_ptr<data::KeyFrame>> candidatesFor(const data::KeyFrame& kf) const;
+  /// Of more than loop.word_candidates candidates, those most like the new keyframe's `query`
+  /// features by words (the index brought up to date first, without the lock); all otherwise.
+  std::vector<std::shared_ptr<data::KeyFrame>> mostSimilar(const data::FrameFeatures& query,
+                                                           std::vector<std::shared_ptr<data::KeyFrame>> candidates);
   /// The points of `kf` and of its best covisible keyframes, each once (map lock held).
   static std::vector<std::shared_ptr<data::MapPoint>> pointsAround(const data::KeyFrame& kf);
   /// A copy of a map point's position, descriptor and viewing range (matching runs unlocked).
@@ -104,6 +114,7 @@ class LoopCloser {
   match::OrbMatcher matcher_;
   optimize::PinholeIntrinsics K_;
   std::optional<Loop> pending_;  ///< detected on the previous keyframe, awaiting confirmation
+  place::KeyFrameDatabase places_{2.0};  ///< the map's keyframes by words, retrained when it doubled
   LoopStats stats_;
 };
 

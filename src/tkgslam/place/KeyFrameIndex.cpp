@@ -41,10 +41,18 @@ KeyFrameIndex::KeyFrameIndex(Vocabulary vocabulary, const std::vector<cv::Mat>& 
   for (size_t w = 0; w < idf_.size(); ++w) {
     if (keyframes_with[w] > 0) idf_[w] = float(std::log(n / keyframes_with[w]));
   }
-  for (size_t k = 0; k < counts.size(); ++k) {
-    bags_.push_back(weigh(counts[k]));
-    for (const auto& [w, weight] : bags_.back()) inverted_[size_t(w)].emplace_back(int(k), weight);
-  }
+  for (const auto& c : counts) insert(weigh(c));
+}
+
+int KeyFrameIndex::add(const cv::Mat& descriptors, const std::vector<char>& excluded) {
+  return insert(weigh(countWords(vocabulary_, descriptors, excluded)));
+}
+
+int KeyFrameIndex::insert(BagOfWords bag) {
+  const int k = int(bags_.size());
+  for (const auto& [w, weight] : bag) inverted_[size_t(w)].emplace_back(k, weight);
+  bags_.push_back(std::move(bag));
+  return k;
 }
 
 BagOfWords KeyFrameIndex::weigh(const std::map<int, int>& counts) const {

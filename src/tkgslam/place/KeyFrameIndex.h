@@ -2,8 +2,8 @@
 // Which keyframes look like a frame: bags of visual words weighted by tf-idf and an inverted
 // file over them, the way ORB-SLAM2 finds relocalisation candidates with DBoW2 - so a lost
 // frame is tried against the few keyframes that share its words instead of every keyframe of a
-// loaded map. Built once over a fixed set of keyframes (they are referred to by their position
-// in that set).
+// loaded map. Built over a set of keyframes (referred to by their position in it); more can be
+// added later, weighed with the idf of the first set (as DBoW2 keeps its vocabulary's).
 #include <cstdint>
 #include <map>
 #include <utility>
@@ -31,6 +31,10 @@ class KeyFrameIndex {
   KeyFrameIndex(Vocabulary vocabulary, const std::vector<cv::Mat>& descriptors,
                 const std::vector<std::vector<char>>& excluded = {});
 
+  /// Indexes one more keyframe (shapes as above); returns its position. Words are weighed with the
+  /// idf of the keyframes the index was built with.
+  int add(const cv::Mat& descriptors, const std::vector<char>& excluded = {});
+
   size_t size() const { return bags_.size(); }
   const Vocabulary& vocabulary() const { return vocabulary_; }
 
@@ -41,6 +45,7 @@ class KeyFrameIndex {
  private:
   /// Word counts weighted by idf and normalised to sum 1 (words of idf 0 left out).
   BagOfWords weigh(const std::map<int, int>& counts) const;
+  int insert(BagOfWords bag);
 
   Vocabulary vocabulary_;
   std::vector<float> idf_;                                   ///< per word: log(keyframes / keyframes with it)

@@ -78,6 +78,10 @@ struct LoopParams {
   int min_inliers = 40;         ///< PnP + pose-optimisation inliers against the old keyframe
   int min_keyframe_gap = 10;    ///< candidates are at least this many keyframes older
   int candidates = 3;           ///< old keyframes verified per new keyframe (best by descriptor matches)
+  /// Where more old keyframes than this are candidates, only this many most like the new keyframe
+  /// by visual words (place::KeyFrameDatabase) are matched by descriptors, so the search does not
+  /// grow with the map (0 = match every candidate).
+  int word_candidates = 50;
   double min_correction_m = 0.05;   ///< smaller disagreements are left to local BA
   double min_correction_deg = 3.0;  ///< ... in rotation (degrees)
   /// Bundle adjustment over every keyframe and point after a closure (0 = none): the pose graph

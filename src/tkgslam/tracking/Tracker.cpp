@@ -594,50 +594,34 @@ void Tracker::startInLoadedMap(bool localization_only) {
   state_ = TrackingState::Lost;
   relocalize_in_whole_map_ = true;
   localization_only_ = localization_only;
-  loaded_index_.reset();
-  loaded_keyframes_.clear();
+  loaded_places_ = place::KeyFrameDatabase();
   if (cfg_.tracking.relocalization_candidates == 0) return;
-  // The vocabulary is trained on the map's own descriptors: no vocabulary file to ship, and its
-  // words are those of the place the map shows.
-  std::vector<cv::Mat> descriptors;
-  std::vector<std::vector<char>> excluded;
-  std::vector<cv::Mat> training;  // vconcat refuses empty blocks
+  std::vector<place::DatabaseEntry> entries;
   for (const auto& kf : map_.keyFrames()) {
-    if (kf->bad || !kf->features) continue;
-    loaded_keyframes_.push_back(kf);
-    descriptors.push_back(kf->features->descriptors);
-    excluded.push_back(kf->features->excluded);
-    if (!descriptors.back().empty()) training.push_back(descriptors.back());
-  }
-  if (training.empty()) {
-    loaded_keyframes_.clear();  // nothing to index: every keyframe is tried, as without an index
-    return;
+    if (!kf->bad && kf->features) entries.push_back({kf->id, kf->features});
   }
   const auto t0 = std::chrono::steady_clock::now();
-  cv::Mat all;
-  cv::vconcat(training, all);
-  loaded_index_ = std::make_unique<place::KeyFrameIndex>(place::Vocabulary::train(all), descriptors, excluded);
-  spdlog::info("loaded map: {} keyframes indexed for relocalisation ({} words) in {:.0f} ms", loaded_keyframes_.size(),
-               loaded_index_->vocabulary().words(), msSince(t0));
+  // Without descriptors nothing is indexed: every keyframe is tried, as without an index.
+  if (!loaded_places_.update(entries)) return;
+  spdlog::info("loaded map: {} keyframes indexed for relocalisation ({} words) in {:.0f} ms", loaded_places_.size(),
+               loaded_places_.words(), msSince(t0));
 }
 
 void Tracker::searchRecentKeyFramesOnly() {
   relocalize_in_whole_map_ = false;
-  loaded_index_.reset();  // its keyframes are not searched any more: let them go
-  loaded_keyframes_.clear();
+  loaded_places_ = place::KeyFrameDatabase();  // its keyframes are not searched any more: let the index go
 }
 
 std::vector<std::shared_ptr<KeyFrame>> Tracker::relocalizationCandidates(const Frame& frame) const {
   auto kfs = map_.keyFrames();
   std::vector<std::shared_ptr<KeyFrame>> out;
-  if (loaded_index_ && relocalize_in_whole_map_) {
-    const auto& F = *frame.features;
-    for (const auto& c : loaded_index_->query(F.descriptors, size_t(cfg_.tracking.relocalization_candidates), F.excluded)) {
-      const auto& kf = loaded_keyframes_[size_t(c.index)];
-      if (!kf->bad) out.push_back(kf);
+  if (loaded_places_.trained() && relocalize_in_whole_map_) {
+    for (const long id : loaded_places_.mostSimilar(*frame.features, size_t(cfg_.tracking.relocalization_candidates))) {
+      const auto kf = map_.keyFrame(id);
+      if (kf && !kf->bad) out.push_back(kf);
     }
     // Keyframes made since the map was loaded are not in the index: newest first after it.
-    const long newest_loaded = loaded_keyframes_.back()->id;
+    const long newest_loaded = loaded_places_.newestId();
     for (size_t k = kfs.size(); k-- > 0 && kfs[k]->id > newest_loaded;) out.push_back(kfs[k]);
     return out;
   }

@@ -16,7 +16,7 @@
 #include "tkgslam/feature/ScalePyramid.h"
 #include "tkgslam/match/OrbMatcher.h"
 #include "tkgslam/optimize/PoseOptimizer.h"
-#include "tkgslam/place/KeyFrameIndex.h"
+#include "tkgslam/place/KeyFrameDatabase.h"
 #include "tkgslam/system/SlamConfig.h"
 
 namespace tkgslam::tracking {
@@ -85,7 +85,7 @@ class Tracker {
   /// first frame. `localization_only`: the map is only tracked against, never changed - no
   /// keyframes, no map points, no new segment when lost; lost frames keep relocalising in the
   /// whole map until the camera is found again. The loaded keyframes are indexed by their words
-  /// (place::KeyFrameIndex, a vocabulary trained on their own descriptors), so a lost frame tries
+  /// (place::KeyFrameDatabase, a vocabulary trained on their own descriptors), so a lost frame tries
   /// only the most similar ones (`tracking.relocalization_candidates`). Map lock held.
   void startInLoadedMap(bool localization_only = false);
   /// An image of this sharpness (feature::imageSharpness) would count as motion-blurred now
@@ -162,8 +162,7 @@ class Tracker {
   long last_reloc_frame_ = -1000;
   bool relocalize_in_whole_map_ = false;  ///< see startInLoadedMap()
   bool localization_only_ = false;        ///< see startInLoadedMap()
-  std::unique_ptr<place::KeyFrameIndex> loaded_index_;                ///< a loaded map's keyframes by words
-  std::vector<std::shared_ptr<data::KeyFrame>> loaded_keyframes_;     ///< per index position
+  place::KeyFrameDatabase loaded_places_;  ///< a loaded map's keyframes by words
   int lost_frames_ = 0;
   /// Timestamps of the frames lost since the last tracked one, while relocalisation may still
   /// find the camera soon enough for them to be interpolated (at most relocalization_attempts).
