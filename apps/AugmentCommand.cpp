@@ -13,6 +13,7 @@ namespace {
 
 struct AugmentCliOptions {
   std::string dataset, people, out, config = "configs/tum_fr1.yaml";
+  bool whole_people = false;
   augment::AugmentOptions options;
 };
 
@@ -26,7 +27,7 @@ int runAugment(const AugmentCliOptions& o) {
   const auto gt = io::readTumTrajectory(*gt_path);
   auto det_params = config.dynamic.detector;
   dynamic::YoloDetector detector(det_params);
-  const auto cutouts = augment::extractPersonCutouts(o.people, detector);
+  const auto cutouts = augment::extractPersonCutouts(o.people, detector, 150, 0.5f, o.whole_people);
   std::printf("%zu person cut-outs from %s\n", cutouts.size(), o.people.c_str());
   const camera::PinholeCamera camera(config.camera);
   const auto s = augment::augmentSequence(dataset, gt, cutouts, camera, config.depth.factor, o.out, o.options);
@@ -60,6 +61,8 @@ Action addAugmentCommand(CLI::App& app) {
   cmd->add_option("--speed", a.speed, "Peak walking speed, m/s")->default_val(0.3)->check(positiveNumber());
   cmd->add_option("--blur", a.blur_probability, "Share of frames with motion blur")->default_val(0.0)
       ->check(CLI::Range(0.0, 1.0));
+  cmd->add_flag("--whole-people", o->whole_people,
+                "Only cut-outs of whole upright people (segmented head to feet, box at most 0.45 as wide as tall)");
   cmd->add_flag("--blur-people", a.blur_people_only, "Blur only the people (fast walkers), not the whole frame");
   cmd->add_option("--frames", a.max_frames, "Only the first N frames")->default_val(0)->check(nonNegativeNumber());
   return [o] { return runAugment(*o); };

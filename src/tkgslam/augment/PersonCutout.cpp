@@ -36,8 +36,21 @@ cv::Mat segmentInBox(const cv::Mat& bgr, const cv::Rect& box) {
   return out(box & frame).clone();
 }
 
+bool isWholeUprightPerson(const cv::Mat& mask) {
+  if (mask.empty() || mask.cols > 0.45 * mask.rows) return false;
+  cv::Mat rows;
+  cv::reduce(mask, rows, 1, cv::REDUCE_MAX);  // one column: 255 on the rows the person is on
+  const cv::Mat on = rows > 0;
+  const int n = cv::countNonZero(on);
+  if (n == 0) return false;
+  int top = 0, bottom = mask.rows - 1;
+  while (!on.at<uint8_t>(top)) ++top;
+  while (!on.at<uint8_t>(bottom)) --bottom;
+  return bottom - top + 1 >= 0.85 * mask.rows;
+}
+
 std::vector<PersonCutout> extractPersonCutouts(const std::string& folder, dynamic::YoloDetector& detector,
-                                               int min_height, float min_score) {
+                                               int min_height, float min_score, bool whole_only) {
   namespace fs = std::filesystem;
   if (!fs::is_directory(folder)) throw InputError(fmt::format("people folder '{}' does not exist", folder));
   std::vector<fs::path> files;
@@ -60,6 +73,7 @@ std::vector<PersonCutout> extractPersonCutouts(const std::string& folder, dynami
       // A good cut-out covers a fair part of its box; reject failed segmentations.
       const double fill = double(cv::countNonZero(c.mask)) / box.area();
       if (fill < 0.2 || fill > 0.9) continue;
+      if (whole_only && !isWholeUprightPerson(c.mask)) continue;
       c.bgr = img(box).clone();
       c.source = f.filename().string();
       out.push_back(std::move(c));
