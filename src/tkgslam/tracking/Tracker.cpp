@@ -641,13 +641,14 @@ bool Tracker::relocalize(Frame& frame) {
     frame.map_points = matches;
     std::fill(frame.outlier.begin(), frame.outlier.end(), 0);
     if (optimize::optimizeFramePose(frame, K_, pyr_) < 10) continue;
-    if (discardOutliers(frame) < 15) continue;
+    const int inliers = discardOutliers(frame);
+    if (inliers < 15) continue;
     reference_kf_ = kf;
     if (!last_kf_) last_kf_ = kf;
     // (Localisation only: the map is the loaded one, and all of it stays the place to look.)
     if (!localization_only_) searchRecentKeyFramesOnly();
     last_reloc_frame_ = frame.id;
-    spdlog::info("relocalised at frame {} against keyframe {}", frame.id, kf->id);
+    spdlog::info("relocalised at frame {} against keyframe {} ({} inliers)", frame.id, kf->id, inliers);
     return true;
   }
   return false;
