@@ -19,10 +19,8 @@ const std::vector<char>& excludedOf(const DatabaseEntry& e) {
 
 bool KeyFrameDatabase::update(const std::vector<DatabaseEntry>& keyframes) {
   const bool grown = retrain_growth_ > 0 && double(keyframes.size()) >= retrain_growth_ * double(trained_on_);
-  if (!index_ || grown) {
-    train(keyframes);
-    return index_ != nullptr;
-  }
+  if ((!index_ || grown) && train(keyframes)) return true;
+  if (!index_) return false;
   for (const auto& e : keyframes) {
     if (e.id <= newestId()) continue;
     index_->add(descriptorsOf(e), excludedOf(e));
@@ -31,7 +29,7 @@ bool KeyFrameDatabase::update(const std::vector<DatabaseEntry>& keyframes) {
   return false;
 }
 
-void KeyFrameDatabase::train(const std::vector<DatabaseEntry>& keyframes) {
+bool KeyFrameDatabase::train(const std::vector<DatabaseEntry>& keyframes) {
   std::vector<cv::Mat> descriptors, training;  // vconcat refuses empty blocks
   std::vector<std::vector<char>> excluded;
   for (const auto& e : keyframes) {
@@ -39,13 +37,14 @@ void KeyFrameDatabase::train(const std::vector<DatabaseEntry>& keyframes) {
     excluded.push_back(excludedOf(e));
     if (!descriptors.back().empty()) training.push_back(descriptors.back());
   }
-  if (training.empty()) return;  // nothing to learn words from: stays as it was
+  if (training.empty()) return false;  // nothing to learn words from
   cv::Mat all;
   cv::vconcat(training, all);
   index_ = std::make_unique<KeyFrameIndex>(Vocabulary::train(all), descriptors, excluded);
   ids_.clear();
   for (const auto& e : keyframes) ids_.push_back(e.id);
   trained_on_ = keyframes.size();
+  return true;
 }
 
 std::vector<long> KeyFrameDatabase::mostSimilar(const data::FrameFeatures& query, size_t n,

@@ -5,7 +5,6 @@
 // training are added with the vocabulary they were trained with, and the vocabulary is trained
 // again once the map has grown by a given factor, so its words keep up with new places.
 #include <memory>
-#include <optional>
 #include <vector>
 
 #include "tkgslam/data/FrameFeatures.h"
@@ -42,7 +41,8 @@ class KeyFrameDatabase {
                                 const std::vector<long>* among = nullptr) const;
 
  private:
-  void train(const std::vector<DatabaseEntry>& keyframes);
+  /// False (and nothing changed) if none of them has a descriptor.
+  bool train(const std::vector<DatabaseEntry>& keyframes);
 
   double retrain_growth_;
   size_t trained_on_ = 0;
