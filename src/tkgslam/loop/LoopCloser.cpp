@@ -110,9 +110,7 @@ std::vector<std::shared_ptr<KeyFrame>> LoopCloser::mostSimilar(const data::Frame
   std::vector<place::DatabaseEntry> entries;
   {
     std::lock_guard<std::mutex> lock(map_.mutex());
-    for (const auto& k : map_.keyFrames()) {
-      if (!k->bad && k->features) entries.push_back({k->id, k->features});
-    }
+    entries = place::entriesOf(map_.keyFrames());
   }
   // Training (a fraction of a second, once the map has doubled) runs without the lock.
   if (places_.update(entries)) {

@@ -17,6 +17,14 @@ const std::vector<char>& excludedOf(const DatabaseEntry& e) {
 
 }  // namespace
 
+std::vector<DatabaseEntry> entriesOf(const std::vector<std::shared_ptr<data::KeyFrame>>& keyframes) {
+  std::vector<DatabaseEntry> out;
+  for (const auto& kf : keyframes) {
+    if (!kf->bad && kf->features) out.push_back({kf->id, kf->features});
+  }
+  return out;
+}
+
 bool KeyFrameDatabase::update(const std::vector<DatabaseEntry>& keyframes) {
   const bool grown = retrain_growth_ > 0 && double(keyframes.size()) >= retrain_growth_ * double(trained_on_);
   if ((!index_ || grown) && train(keyframes)) return true;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "tkgslam/data/FrameFeatures.h"
+#include "tkgslam/data/KeyFrame.h"
 #include "tkgslam/place/KeyFrameIndex.h"
 
 namespace tkgslam::place {
@@ -16,6 +17,10 @@ struct DatabaseEntry {
   long id = -1;                                          ///< the keyframe's id
   std::shared_ptr<const data::FrameFeatures> features;  ///< its descriptors and exclusion flags
 };
+
+/// The entries of the keyframes that can be indexed (not culled, with features), in their order.
+/// Read them under the map lock.
+std::vector<DatabaseEntry> entriesOf(const std::vector<std::shared_ptr<data::KeyFrame>>& keyframes);
 
 class KeyFrameDatabase {
  public:

@@ -596,13 +596,9 @@ void Tracker::startInLoadedMap(bool localization_only) {
   localization_only_ = localization_only;
   loaded_places_ = place::KeyFrameDatabase();
   if (cfg_.tracking.relocalization_candidates == 0) return;
-  std::vector<place::DatabaseEntry> entries;
-  for (const auto& kf : map_.keyFrames()) {
-    if (!kf->bad && kf->features) entries.push_back({kf->id, kf->features});
-  }
   const auto t0 = std::chrono::steady_clock::now();
   // Without descriptors nothing is indexed: every keyframe is tried, as without an index.
-  if (!loaded_places_.update(entries)) return;
+  if (!loaded_places_.update(place::entriesOf(map_.keyFrames()))) return;
   spdlog::info("loaded map: {} keyframes indexed for relocalisation ({} words) in {:.0f} ms", loaded_places_.size(),
                loaded_places_.words(), msSince(t0));
 }
