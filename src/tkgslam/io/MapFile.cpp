@@ -349,6 +349,10 @@ size_t deserializeMap(std::string_view bytes, data::Map& map, const camera::Pinh
   // Frames of an earlier run: negative frame ids keep their order and never meet this run's.
   long last_frame = records.empty() ? 0 : records.front().frame_id;
   for (const auto& rec : records) last_frame = std::max(last_frame, rec.frame_id);
+  // Rebased, the frame ids must still be ones a map file may hold (so a saved map reads back).
+  for (const auto& rec : records) {
+    if (rec.frame_id - last_frame - 1 < -kMaxId) r.fail("keyframe frame ids span more than 2^40 frames");
+  }
   std::map<long, std::shared_ptr<data::KeyFrame>> keyframes;
   for (auto& rec : records) {
     auto kf = std::make_shared<data::KeyFrame>(rec.id, rec.frame_id - last_frame - 1, rec.timestamp,
