@@ -26,6 +26,9 @@ int runAugment(const AugmentCliOptions& o) {
   if (!gt_path) throw InputError("augment: the dataset has no groundtruth.txt");
   const auto gt = io::readTumTrajectory(*gt_path);
   auto det_params = config.dynamic.detector;
+  // The cut-outs are picked by the letterboxed square detector whatever the run's setting, so one
+  // seed gives the same composite as the published benchmark (fitted, 2 more photos yield one).
+  det_params.fit_input = false;
   dynamic::YoloDetector detector(det_params);
   const auto cutouts = augment::extractPersonCutouts(o.people, detector, 150, 0.5f, o.whole_people);
   std::printf("%zu person cut-outs from %s\n", cutouts.size(), o.people.c_str());

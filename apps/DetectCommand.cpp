@@ -32,7 +32,9 @@ int runDetect(DetectOptions o) {
     const auto dets = detector.detect(img);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     cv::Mat vis = img.clone();
-    std::printf("%s: %zu dynamic objects (%.1f ms)\n", path.c_str(), dets.size(), ms);
+    const cv::Size input = detector.inputSize();
+    std::printf("%s: %zu dynamic objects (%.1f ms at %d x %d)\n", path.c_str(), dets.size(), ms, input.width,
+                input.height);
     for (const auto& d : dets) {
       std::printf("  class %2d score %.3f box x %.1f y %.1f w %.1f h %.1f\n", d.class_id, d.score, d.box.x, d.box.y,
                   d.box.width, d.box.height);
@@ -57,7 +59,9 @@ Action addDetectCommand(CLI::App& app) {
   cmd->add_option("images", o->images, "Images to process")->required();
   cmd->add_option("-o,--out", o->out, "Output folder")->default_val(o->out);
   cmd->add_option("--model", o->params.model, "YOLOv5 ONNX model")->default_val(o->params.model);
-  cmd->add_option("--size", o->params.input_size, "Network input size (multiple of 32)")->default_val(640);
+  cmd->add_option("--size", o->params.input_size, "Network input's long side (multiple of 32)")->default_val(640);
+  cmd->add_flag("!--square", o->params.fit_input,
+                "Letterbox into a --size square instead of an input of the image's aspect ratio");
   cmd->add_option("--conf", o->params.confidence, "Score threshold")->default_val(0.25);
   cmd->add_option("--person-conf", o->params.person_confidence, "Score threshold for persons")->default_val(0.1);
   return [o] { return runDetect(*o); };

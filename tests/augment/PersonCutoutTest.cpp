@@ -29,6 +29,7 @@ TEST(PersonCutout, WholePeopleOnlyKeepsTheStandingPeopleOfThePhotos) {
   TKGSLAM_REQUIRE_SHARED();
   dynamic::DetectorParams params;
   params.model = test::yoloModel();
+  params.fit_input = false;  // as `augment` runs it
   dynamic::YoloDetector detector(params);
   const auto folder = (test::sharedDir() / "datasets" / "people").string();
   const auto all = augment::extractPersonCutouts(folder, detector);

@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
 #include "tkgslam/common/Error.h"
+#include "tkgslam/dynamic/YoloHeadResize.h"
 
 namespace tkgslam::dynamic {
 
@@ -29,22 +32,23 @@ YoloDetector::YoloDetector(const DetectorParams& params) : params_(params) {
       !(params_.nms > 0 && params_.nms <= 1)) {
     throw InputError("detector: confidence thresholds must be in (0, 1) and nms in (0, 1]");
   }
-  try {
-    net_ = cv::dnn::readNetFromONNX(params_.model);
-  } catch (const cv::Exception& e) {
-    throw InputError(fmt::format("detector: cannot load ONNX model '{}': {}", params_.model, e.what()));
+  {
+    std::ifstream file(params_.model, std::ios::binary);
+    if (!file) throw InputError(fmt::format("detector: cannot read model file '{}'", params_.model));
+    model_bytes_.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+    if (model_bytes_.empty()) throw InputError(fmt::format("detector: ONNX model '{}' is empty", params_.model));
   }
-  if (net_.empty()) throw InputError(fmt::format("detector: ONNX model '{}' is empty", params_.model));
-  net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
-  net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
-  // Probe the output shape once so a wrong model fails at start-up, not mid-run.
-  cv::Mat probe(params_.input_size, params_.input_size, CV_8UC3, cv::Scalar(114, 114, 114));
   cv::Mat out;
   try {
+    net_ = load();
+    export_size_ = yoloHeadExportSize(net_);
+    // Probe the output shape once so a wrong model fails at start-up, not mid-run.
+    prepareNet(cv::Size(params_.input_size, params_.input_size));
+    cv::Mat probe(params_.input_size, params_.input_size, CV_8UC3, cv::Scalar(114, 114, 114));
     net_.setInput(cv::dnn::blobFromImage(probe, 1.0 / 255.0, cv::Size(), cv::Scalar(), true, false));
     out = net_.forward();
   } catch (const cv::Exception& e) {
-    throw InputError(fmt::format("detector: model '{}' does not run at input size {}: {}", params_.model,
+    throw InputError(fmt::format("detector: model '{}' does not load or run at input size {}: {}", params_.model,
                                  params_.input_size, e.what()));
   }
   if (out.dims != 3 || out.size[2] < 6) {
@@ -60,6 +64,29 @@ YoloDetector::YoloDetector(const DetectorParams& params) : params_(params) {
   }
 }
 
+cv::dnn::Net YoloDetector::load() const {
+  cv::dnn::Net net = cv::dnn::readNetFromONNX(model_bytes_);
+  if (net.empty()) throw InputError(fmt::format("detector: ONNX model '{}' is empty", params_.model));
+  net.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
+  net.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+  return net;
+}
+
+void YoloDetector::prepareNet(cv::Size input) {
+  if (input == net_input_) return;
+  if (!net_input_.empty()) net_ = load();  // a net that ran at another size has fused its layers
+  if (export_size_ > 0 && input != cv::Size(export_size_, export_size_) && !resizeYoloHead(net_, input)) {
+    throw InputError(fmt::format("detector: cannot resize the head of '{}' to {} x {}", params_.model, input.width,
+                                 input.height));
+  }
+  net_input_ = input;
+}
+
+cv::Size YoloDetector::inputSize() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return net_input_;
+}
+
 std::vector<Detection> YoloDetector::detect(const cv::Mat& bgr) { return detectTiles({bgr}).front(); }
 
 std::vector<std::vector<Detection>> YoloDetector::detectTiles(const std::vector<cv::Mat>& images) {
@@ -69,26 +96,40 @@ std::vector<std::vector<Detection>> YoloDetector::detectTiles(const std::vector<
   }
   const int S = params_.input_size;
   const int grid = int(std::ceil(std::sqrt(double(images.size()) - 1e-9)));
-  const int cell = S / grid;
-  // Each image letterboxed into its square cell of the network input.
+  // The images fill a grid x grid block of equal cells: square cells in an S x S input, or cells
+  // of the images' aspect ratio (S / grid on the long side) when the input can be fitted.
+  cv::Size cell(S / grid, S / grid), input_size(S, S);
+  if (params_.fit_input && export_size_ > 0) {
+    cell = cv::Size(0, 0);
+    for (const auto& bgr : images) {
+      const double r = double(S) / grid / std::max(bgr.cols, bgr.rows);
+      cell.width = std::max(cell.width, int(std::lround(bgr.cols * r)));
+      cell.height = std::max(cell.height, int(std::lround(bgr.rows * r)));
+    }
+    const auto roundUp = [](int v) { return (v + 31) / 32 * 32; };
+    input_size = cv::Size(roundUp(grid * cell.width), roundUp(grid * cell.height));
+  }
+  const cv::Point origin((input_size.width - grid * cell.width) / 2, (input_size.height - grid * cell.height) / 2);
+  // Each image letterboxed into its cell of the network input.
   struct Placement {
     float r;
     int x0, y0;  // the image's top-left corner in the input
   };
   std::vector<Placement> place;
-  cv::Mat input(S, S, CV_8UC3, cv::Scalar(114, 114, 114));
+  cv::Mat input(input_size, CV_8UC3, cv::Scalar(114, 114, 114));
   for (size_t i = 0; i < images.size(); ++i) {
     const cv::Mat& bgr = images[i];
-    const float r = std::min(float(cell) / bgr.cols, float(cell) / bgr.rows);
+    const float r = std::min(float(cell.width) / bgr.cols, float(cell.height) / bgr.rows);
     const int nw = int(std::lround(bgr.cols * r)), nh = int(std::lround(bgr.rows * r));
-    const int cx = int(i % grid) * cell, cy = int(i / grid) * cell;
-    const Placement pl{r, cx + (cell - nw) / 2, cy + (cell - nh) / 2};
+    const int cx = origin.x + int(i % grid) * cell.width, cy = origin.y + int(i / grid) * cell.height;
+    const Placement pl{r, cx + (cell.width - nw) / 2, cy + (cell.height - nh) / 2};
     cv::resize(bgr, input(cv::Rect(pl.x0, pl.y0, nw, nh)), cv::Size(nw, nh), 0, 0, cv::INTER_LINEAR);
     place.push_back(pl);
   }
   cv::Mat out;
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    prepareNet(input_size);
     net_.setInput(cv::dnn::blobFromImage(input, 1.0 / 255.0, cv::Size(), cv::Scalar(), true, false));
     out = net_.forward();
   }
@@ -109,7 +150,8 @@ std::vector<std::vector<Detection>> YoloDetector::detectTiles(const std::vector<
     const float score = obj * cls[best];
     if (score < (best == 0 ? params_.person_confidence : params_.confidence)) continue;
     // The cell that holds the box centre says which image it belongs to.
-    const int gx = std::clamp(int(row[0]) / cell, 0, grid - 1), gy = std::clamp(int(row[1]) / cell, 0, grid - 1);
+    const int gx = std::clamp(int(std::floor((row[0] - origin.x) / cell.width)), 0, grid - 1);
+    const int gy = std::clamp(int(std::floor((row[1] - origin.y) / cell.height)), 0, grid - 1);
     const size_t img = size_t(gy * grid + gx);
     if (img >= images.size()) continue;
     const Placement& pl = place[img];

@@ -1,7 +1,9 @@
 #pragma once
 // YOLOv5 object detector on OpenCV DNN. Loads any YOLOv5 ONNX export with the standard I/O:
-// input 1x3xSxS RGB in [0, 1], letterboxed with grey (114); output 1xNx(5+C) rows of
-// cx, cy, w, h (input pixels), objectness, C class scores (already sigmoid-ed).
+// input 1x3xHxW RGB in [0, 1], letterboxed with grey (114); output 1xNx(5+C) rows of
+// cx, cy, w, h (input pixels), objectness, C class scores (already sigmoid-ed). The input is
+// the image's aspect ratio when the export's head can be resized (resizeYoloHead), else the
+// export's square.
 // Only the classes of the configured dynamic set are returned; NMS is per class.
 #include <mutex>
 #include <string>
@@ -18,7 +20,11 @@ std::vector<int> defaultDynamicClasses();
 
 struct DetectorParams {
   std::string model;          ///< path to the ONNX file
-  int input_size = 640;       ///< S (multiple of 32)
+  int input_size = 640;       ///< S: the input's long side, pixels (multiple of 32)
+  /// Fit the input to the image's aspect ratio (S x S*h/w rounded up to 32: 640 x 480 for a VGA
+  /// frame, a quarter less work than the letterboxed S x S square and the same boxes) when the
+  /// model's head can be resized; otherwise, and when false, letterbox into S x S.
+  bool fit_input = true;
   float confidence = 0.25f;   ///< score threshold
   float person_confidence = 0.1f;  ///< lower: missing a person costs more than a false box
   float nms = 0.45f;          ///< IoU threshold of non-maximum suppression
@@ -39,10 +45,19 @@ class YoloDetector {
   std::vector<std::vector<Detection>> detectTiles(const std::vector<cv::Mat>& images);
 
   const DetectorParams& params() const { return params_; }
+  /// The network input (pixels) of the last detection (before the first: S x S).
+  cv::Size inputSize();
 
  private:
+  cv::dnn::Net load() const;
+  /// Makes net_ run at `input` (reloading and resizing its head when it changes). Under mutex_.
+  void prepareNet(cv::Size input);
+
   DetectorParams params_;
+  std::vector<uchar> model_bytes_;
+  int export_size_ = 0;  ///< the head's export size; 0 = not resizable (runs at S x S only)
   cv::dnn::Net net_;
+  cv::Size net_input_;
   std::vector<char> wanted_;  ///< per class id
   std::mutex mutex_;
 };
