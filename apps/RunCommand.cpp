@@ -41,6 +41,7 @@ struct RunOptions {
   std::string box_flow, unboxed_check, object_mask;                  // empty: keep the config's
   bool lookahead = false;
   int detector_tiles = 0;  // 0: keep the config's
+  int detector_size = 0;   // 0: keep the config's
   bool fast = false;       // the detector schedule of bench/modes.sh's TKGt
 };
 
@@ -125,6 +126,7 @@ int runSlam(const RunOptions& o) {
   }
   if (o.lookahead) config.dynamic.lookahead = true;
   if (o.detector_tiles > 0) config.dynamic.detector_tiles = o.detector_tiles;
+  if (o.detector_size > 0) config.dynamic.detector.input_size = o.detector_size;
   if (o.fast) {
     // Detection at about the cost of plain ORB tracking on a 2-core CPU (the benchmark's TKGt); the
     // options given explicitly win.
@@ -412,6 +414,14 @@ Action addRunCommand(CLI::App& app) {
   cmd->add_option("--detector-tiles", o->detector_tiles,
                   "With --lookahead: frames per detector run, tiled into one input (4 = 2x2 at half size)")
       ->check(CLI::Range(1, 9));
+  cmd->add_option("--detector-size", o->detector_size,
+                  "Detector input's long side in pixels, a multiple of 32 (640 = the export's; 320: ~5 times faster, "
+                  "large people found as well; overrides dynamic.input_size)")
+      ->check([](const std::string& v) {
+        int n = 0;
+        return CLI::detail::lexical_cast(v, n) && n >= 64 && n % 32 == 0 ? std::string()
+                                                                         : std::string("must be a multiple of 32, >= 64");
+      });
   cmd->add_flag("--fast", o->fast,
                 "TK/TKG: detector at about the cost of ORB tracking: --detect-every 2 --detector-tiles 4 --detector-latency 8 "
                 "--lookahead --opencv-threads 1 (poses 15 frames late; options given explicitly win)");

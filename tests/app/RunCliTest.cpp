@@ -20,7 +20,7 @@ TEST(RunCli, ConfigUsedHasTheCommandLinesOptionsAndRepeatsTheRun) {
   test::TempDir tmp;
   const std::string data = " -d " + test::fr1xyz().string() + " --max-frames 10 -q -o ";
   std::string out;
-  ASSERT_EQ(test::runCli("run --deterministic --mode TKG --detect-every 2 --object-mask on -c " +
+  ASSERT_EQ(test::runCli("run --deterministic --mode TKG --detect-every 2 --object-mask on --detector-size 320 -c " +
                              (test::sourceDir() / "configs" / "tum_fr1.yaml").string() + data + (tmp / "a").string(),
                          &out),
             0)
@@ -29,6 +29,8 @@ TEST(RunCli, ConfigUsedHasTheCommandLinesOptionsAndRepeatsTheRun) {
   EXPECT_NE(used.find("  mode: TKG\n"), std::string::npos) << used;
   EXPECT_NE(used.find("  detect_every: 2\n"), std::string::npos) << used;
   EXPECT_NE(used.find("  object_mask: true\n"), std::string::npos) << used;
+  EXPECT_NE(used.find("  input_size: 320\n"), std::string::npos) << used;
+  EXPECT_NE(used.find("  fit_input: true\n"), std::string::npos) << used;
   EXPECT_NE(used.find("  deterministic: true\n"), std::string::npos) << used;
   // The model path is absolute: the file lies in another folder than the config it came from.
   EXPECT_NE(used.find("  model: /"), std::string::npos) << used;
@@ -44,6 +46,13 @@ TEST(RunCli, ConfigUsedHasTheCommandLinesOptionsAndRepeatsTheRun) {
   // Below its first line (the file it came from), the same configuration.
   const std::string again = test::readFile(tmp / "b" / "config_used.yaml");
   EXPECT_EQ(again.substr(again.find('\n')), used.substr(used.find('\n')));
+
+  // A detector size the network cannot take is refused before anything runs.
+  EXPECT_EQ(test::runCli("run --mode TKG --detector-size 300 -c " +
+                             (test::sourceDir() / "configs" / "tum_fr1.yaml").string() + data + (tmp / "c").string(),
+                         &out),
+            2);
+  EXPECT_NE(out.find("--detector-size: must be a multiple of 32"), std::string::npos) << out;
 }
 
 TEST(RunCli, FastIsTheTiledLookaheadScheduleAndNeedsAKalmanMode) {
