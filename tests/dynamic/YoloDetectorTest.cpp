@@ -119,6 +119,19 @@ TEST(YoloDetector, TiledImagesAreEachDetectedInTheirOwnPixels) {
   }
 }
 
+TEST(YoloDetector, ImagesOfAnyShapeGetAnInputTheNetworkTakes) {
+  TKGSLAM_REQUIRE_SHARED();
+  dynamic::YoloDetector detector(params());
+  const cv::Mat grey(480, 640, CV_8UC3, cv::Scalar(90, 90, 90));
+  for (const cv::Size size : {cv::Size(1, 1), cv::Size(1, 3000), cv::Size(3000, 1), cv::Size(641, 479)}) {
+    const cv::Mat img(size, CV_8UC3, cv::Scalar(90, 90, 90));
+    EXPECT_NO_THROW(detector.detect(img)) << size;
+    const cv::Size input = detector.inputSize();
+    EXPECT_TRUE(input.width % 32 == 0 && input.height % 32 == 0 && std::max(input.width, input.height) == 640) << input;
+    EXPECT_NO_THROW(detector.detectTiles({img, grey, img})) << size;
+  }
+}
+
 TEST(YoloDetector, MissingOrMalformedModelIsAClearError) {
   dynamic::DetectorParams p;
   p.model = "/nonexistent/model.onnx";

@@ -103,8 +103,8 @@ std::vector<std::vector<Detection>> YoloDetector::detectTiles(const std::vector<
     cell = cv::Size(0, 0);
     for (const auto& bgr : images) {
       const double r = double(S) / grid / std::max(bgr.cols, bgr.rows);
-      cell.width = std::max(cell.width, int(std::lround(bgr.cols * r)));
-      cell.height = std::max(cell.height, int(std::lround(bgr.rows * r)));
+      cell.width = std::max({cell.width, 1, int(std::lround(bgr.cols * r))});
+      cell.height = std::max({cell.height, 1, int(std::lround(bgr.rows * r))});
     }
     const auto roundUp = [](int v) { return (v + 31) / 32 * 32; };
     input_size = cv::Size(roundUp(grid * cell.width), roundUp(grid * cell.height));
@@ -120,7 +120,7 @@ std::vector<std::vector<Detection>> YoloDetector::detectTiles(const std::vector<
   for (size_t i = 0; i < images.size(); ++i) {
     const cv::Mat& bgr = images[i];
     const float r = std::min(float(cell.width) / bgr.cols, float(cell.height) / bgr.rows);
-    const int nw = int(std::lround(bgr.cols * r)), nh = int(std::lround(bgr.rows * r));
+    const int nw = std::max(1, int(std::lround(bgr.cols * r))), nh = std::max(1, int(std::lround(bgr.rows * r)));
     const int cx = origin.x + int(i % grid) * cell.width, cy = origin.y + int(i / grid) * cell.height;
     const Placement pl{r, cx + (cell.width - nw) / 2, cy + (cell.height - nh) / 2};
     cv::resize(bgr, input(cv::Rect(pl.x0, pl.y0, nw, nh)), cv::Size(nw, nh), 0, 0, cv::INTER_LINEAR);
