@@ -56,7 +56,10 @@ std::vector<Level> findHead(cv::dnn::Net& net) {
     if (!layer) continue;
     if (layer->type == "Const" && layer->blobs.size() == 1) {
       const cv::Mat& b = layer->blobs[0];
-      if (b.dims != 5 || b.type() != CV_32F || b.size[0] != 1 || b.size[4] != 2 || b.size[2] != b.size[3]) continue;
+      if (b.dims != 5 || b.type() != CV_32F || b.size[0] != 1 || b.size[1] < 1 || b.size[4] != 2 ||
+          b.size[2] < 1 || b.size[2] != b.size[3]) {
+        continue;
+      }
       if (!isCellOffsetGrid(b)) continue;
       if (levels.count(b.size[2])) return {};  // two grids of one size: not the head we know
       Level& level = levels[b.size[2]];
