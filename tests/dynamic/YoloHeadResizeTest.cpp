@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "TestSupport.h"
+#include "tkgslam/dynamic/Detection.h"
 #include "tkgslam/dynamic/YoloHeadResize.h"
 
 namespace tkgslam {
@@ -38,11 +39,6 @@ std::vector<cv::Rect2f> persons(const cv::Mat& out, float r, cv::Point offset) {
     boxes.emplace_back((row[0] - row[2] / 2 - offset.x) / r, (row[1] - row[3] / 2 - offset.y) / r, row[2] / r, row[3] / r);
   }
   return boxes;
-}
-
-float iou(const cv::Rect2f& a, const cv::Rect2f& b) {
-  const float inter = (a & b).area();
-  return inter / (a.area() + b.area() - inter);
 }
 
 TEST(YoloHeadResize, TheBundledExportIsRecognisedAndItsOwnSizeChangesNothing) {
@@ -79,7 +75,7 @@ TEST(YoloHeadResize, AVgaFrameRunsAt640x480WithTheSamePeople) {
   ASSERT_FALSE(found.empty());
   for (const auto& e : expected) {
     float best = 0;
-    for (const auto& f : found) best = std::max(best, iou(e, f));
+    for (const auto& f : found) best = std::max(best, dynamic::iou(e, f));
     EXPECT_GE(best, 0.8f) << "person at " << e;
   }
 }

@@ -1,7 +1,6 @@
 // A short composite of real people walking through the real fr1_xyz sequence: the people must
 // really hurt the ORB-SLAM2-style baseline, and TKG must stay close to the static original.
 #include <fstream>
-#include <numeric>
 #include <regex>
 #include <vector>
 
