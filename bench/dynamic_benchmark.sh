@@ -3,24 +3,32 @@
 # fr1_xyz sequence, every ablation mode on each and on the static original, tables like the
 # paper's Tables 1-4 in OUT/tables.md.
 #   bench/dynamic_benchmark.sh [OUT]        env: FRAMES (default 300), MODES, SEQ, ONLY (sequence names to
-#                                           (re)run, e.g. "static high"; default all), SEEDS, SEEDED
+#                                           (re)run, e.g. "static high"; default all), SEEDS, SEEDED,
+#                                           JOBS (runs at a time, default 1), TKGSLAM_BIN (the CLI to run)
 # Every run uses --deterministic, so one run per cell is the median of any number of runs. What a
 # single composite cannot show is how much a difference between modes depends on where the people
 # happen to walk: SEEDS="22 32" adds replicas of the SEEDED composites (default "high very_high high_blur high_shake extreme")
 # built with those seeds (named e.g. high_s22), and the tables get their mean and spread.
+# JOBS=2 runs two at a time: the same trajectories and accuracy tables (the runs are deterministic) in
+# about half the time, but the runs share the cores, so the time table's multiples of T come out inflated.
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
-BIN="$ROOT/build/bin/tkgslam"
+BIN=${TKGSLAM_BIN:-"$ROOT/build/bin/tkgslam"}
 SEQ=${SEQ:-"$ROOT/../shared/datasets/rgbd_dataset_freiburg1_xyz"}
 PEOPLE=${PEOPLE:-"$ROOT/../shared/datasets/people"}
 OUT=${1:-"$ROOT/out/dynamic_benchmark"}
 FRAMES=${FRAMES:-300}
+JOBS=${JOBS:-1}
+[[ "$JOBS" =~ ^[1-9][0-9]*$ ]] || { echo "JOBS must be a positive whole number, not '$JOBS'" >&2; exit 2; }
 MODES=${MODES:-"orb T TK TG TKG TKGp TKGa TKGl TKGt"}   # TKGp: the paper's TKG; TKGa/l/t: asynchronous detector (see run_one)
 CFG="$ROOT/configs/tum_fr1.yaml"
 # shellcheck source=bench/modes.sh
 source "$ROOT/bench/modes.sh"
 [ -x "$BIN" ] || { echo "build first: scripts/build.sh" >&2; exit 1; }
 [ -d "$SEQ" ] || { echo "sequence $SEQ not found" >&2; exit 1; }
+for mode in $MODES; do
+  mode_flags "$mode" || { echo "unknown mode '$mode' (modes: orb T TK TG TKG TKGp TKGa TKGl TKGt TKGs)" >&2; exit 2; }
+done
 mkdir -p "$OUT"
 
 # name | augment options
@@ -52,18 +60,41 @@ done
 
 run_one() {  # sequence-name dataset-dir mode
   local name=$1 dir=$2 mode=$3 res="$OUT/runs/$1/$3"
-  mode_flags "$mode" || { echo "unknown mode '$mode' (modes: orb T TK TG TKG TKGp TKGa TKGl TKGt)" >&2; exit 2; }
+  mode_flags "$mode"  # checked at the start
   mkdir -p "$res"
   echo "== $name / $mode"
-  "$BIN" run -q --deterministic -c "$CFG" -d "$dir" -o "$res" "${MODE_FLAGS[@]}" --max-frames "$FRAMES" > "$res/run.log" 2>&1
+  if ! "$BIN" run -q --deterministic -c "$CFG" -d "$dir" -o "$res" "${MODE_FLAGS[@]}" --max-frames "$FRAMES" > "$res/run.log" 2>&1; then
+    echo "run failed: $name / $mode (see $res/run.log)" >&2
+    return 1
+  fi
   "$BIN" eval --json --frames "$dir" "$dir/groundtruth.txt" "$res/trajectory.txt" > "$res/eval.json" 2> "$res/eval.err" ||
     echo '{}' > "$res/eval.json"
 }
-if selected static; then for mode in $MODES; do run_one static "$SEQ" "$mode"; done; fi
+RUNS=()  # sequence-name|dataset-dir|mode
+if selected static; then for mode in $MODES; do RUNS+=("static|$SEQ|$mode"); done; fi
 for c in "${COMPOSITES[@]}"; do
   name=${c%%|*}
   selected "$name" || continue
-  for mode in $MODES; do run_one "$name" "$OUT/seq_$name" "$mode"; done
+  for mode in $MODES; do RUNS+=("$name|$OUT/seq_$name|$mode"); done
 done
+failed="$OUT/.failed_runs"
+rm -f "$failed"
+for r in "${RUNS[@]}"; do
+  IFS='|' read -r name dir mode <<< "$r"
+  if [ "$JOBS" -eq 1 ]; then
+    run_one "$name" "$dir" "$mode"
+  else
+    while [ "$(jobs -rp | wc -l)" -ge "$JOBS" ]; do wait -n || true; done
+    { run_one "$name" "$dir" "$mode" || echo "$name / $mode" >> "$failed"; } &
+  fi
+done
+wait
+if [ -f "$failed" ]; then
+  echo "$(wc -l < "$failed") run(s) failed: $(paste -sd, "$failed")" >&2
+  exit 1
+fi
 python3 "$ROOT/bench/make_tables.py" "$OUT" "$FRAMES" > "$OUT/tables.md"
+if [ "$JOBS" -gt 1 ]; then
+  printf '\n%s\n' "Timing: these runs went $JOBS at a time, sharing the machine's cores: the multiples of T above are inflated (JOBS=1 for timing)." >> "$OUT/tables.md"
+fi
 echo "tables: $OUT/tables.md, figure: $OUT/precision_recall.svg"
