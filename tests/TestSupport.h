@@ -1,5 +1,8 @@
 #pragma once
 // Helpers for tests: locating ../shared (skip when absent), temporary folders, running the CLI.
+#include <sys/wait.h>
+
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -58,17 +61,18 @@ inline void writeText(const std::filesystem::path& p, const std::string& text) {
   std::ofstream(p) << text;
 }
 
-/// Runs the CLI with arguments; returns its exit code and captures stdout+stderr into `output`.
-inline int runCli(const std::string& args, std::string* output = nullptr) {
+/// Runs a shell command; returns its exit code and captures stdout+stderr into `output`.
+inline int runCommand(const std::string& command, std::string* output = nullptr) {
   TempDir tmp;
   const auto log = tmp / "out.txt";
-  const std::string cmd = std::string(TKGSLAM_CLI) + " " + args + " > " + log.string() + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  if (output) {
-    std::ifstream in(log);
-    output->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  }
+  const int status = std::system((command + " > " + log.string() + " 2>&1").c_str());
+  if (output) *output = readFile(log);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/// Runs the CLI with arguments; returns its exit code and captures stdout+stderr into `output`.
+inline int runCli(const std::string& args, std::string* output = nullptr) {
+  return runCommand(std::string(TKGSLAM_CLI) + " " + args, output);
 }
 
 }  // namespace tkgslam::test

@@ -1,6 +1,5 @@
 // bench/dynamic_benchmark.sh: builds a composite, runs the modes, tabulates them; JOBS=2 gives the
 // same accuracy tables as one run at a time; bad JOBS or modes are refused with exit code 2.
-#include <cstdlib>
 #include <filesystem>
 #include <regex>
 
@@ -15,15 +14,11 @@ namespace fs = std::filesystem;
 
 /// Runs the script on `out` with `env` (VAR=value ...); returns its exit code, output in `output`.
 int runScript(const std::string& env, const fs::path& out, std::string* output) {
-  test::TempDir tmp;
-  const auto log = tmp / "log.txt";
-  const std::string cmd = "TKGSLAM_BIN=" + std::string(TKGSLAM_CLI) + " SEQ=" + test::fr1xyz().string() +
-                          " PEOPLE=" + (test::sharedDir() / "datasets" / "people").string() + " " + env + " bash " +
-                          (test::sourceDir() / "bench" / "dynamic_benchmark.sh").string() + " " + out.string() +
-                          " > " + log.string() + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  *output = test::readFile(log);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return test::runCommand("TKGSLAM_BIN=" + std::string(TKGSLAM_CLI) + " SEQ=" + test::fr1xyz().string() +
+                              " PEOPLE=" + (test::sharedDir() / "datasets" / "people").string() + " " + env +
+                              " bash " + (test::sourceDir() / "bench" / "dynamic_benchmark.sh").string() + " " +
+                              out.string(),
+                          output);
 }
 
 /// The tables from the heading that starts with `heading` up to the next heading.

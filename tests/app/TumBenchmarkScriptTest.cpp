@@ -1,6 +1,5 @@
 // bench/tum_benchmark.sh: runs on real sequences, tables next to the paper's numbers, resumes, refuses
 // bad input with exit code 2.
-#include <cstdlib>
 #include <filesystem>
 #include <regex>
 
@@ -15,14 +14,9 @@ namespace fs = std::filesystem;
 
 /// Runs the script with `env` (VAR=value ...) and `args`; returns its exit code, output in `output`.
 int runScript(const std::string& env, const std::string& args, std::string* output) {
-  test::TempDir tmp;
-  const auto log = tmp / "out.txt";
-  const std::string cmd = "TKGSLAM_BIN=" + std::string(TKGSLAM_CLI) + " " + env + " bash " +
-                          (test::sourceDir() / "bench" / "tum_benchmark.sh").string() + " " + args + " > " +
-                          log.string() + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  *output = test::readFile(log);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return test::runCommand("TKGSLAM_BIN=" + std::string(TKGSLAM_CLI) + " " + env + " bash " +
+                              (test::sourceDir() / "bench" / "tum_benchmark.sh").string() + " " + args,
+                          output);
 }
 
 /// The row of `sequence` in the table under the heading that starts with `heading` ("" if none).
