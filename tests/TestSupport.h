@@ -61,6 +61,14 @@ inline void writeText(const std::filesystem::path& p, const std::string& text) {
   std::ofstream(p) << text;
 }
 
+/// The part of a markdown text from the heading "### <heading>..." up to the next "### " heading ("" if none).
+inline std::string markdownSection(const std::string& text, const std::string& heading) {
+  const auto h = text.find("### " + heading);
+  if (h == std::string::npos) return "";
+  const auto end = text.find("\n### ", h + 4);
+  return text.substr(h, end == std::string::npos ? std::string::npos : end - h);
+}
+
 /// Runs a shell command; returns its exit code and captures stdout+stderr into `output`.
 inline int runCommand(const std::string& command, std::string* output = nullptr) {
   TempDir tmp;

@@ -21,14 +21,6 @@ int runScript(const std::string& env, const fs::path& out, std::string* output) 
                           output);
 }
 
-/// The tables from the heading that starts with `heading` up to the next heading.
-std::string section(const std::string& tables, const std::string& heading) {
-  const auto h = tables.find("### " + heading);
-  if (h == std::string::npos) return "";
-  const auto end = tables.find("\n### ", h + 4);
-  return tables.substr(h, end == std::string::npos ? std::string::npos : end - h);
-}
-
 TEST(DynamicBenchmarkScript, TwoRunsAtATimeGiveTheSameAccuracyTables) {
   TKGSLAM_REQUIRE_SHARED();
   test::TempDir tmp;
@@ -39,7 +31,7 @@ TEST(DynamicBenchmarkScript, TwoRunsAtATimeGiveTheSameAccuracyTables) {
   const std::string two = test::readFile(tmp / "two" / "tables.md");
 
   // Both modes on both sequences, with an ATE of a few mm on 30 frames.
-  const std::string ate = section(two, "ATE RMSE");
+  const std::string ate = test::markdownSection(two, "ATE RMSE");
   for (const std::string seq : {"static", "low"}) {
     std::smatch m;
     ASSERT_TRUE(std::regex_search(
@@ -56,8 +48,8 @@ TEST(DynamicBenchmarkScript, TwoRunsAtATimeGiveTheSameAccuracyTables) {
   ASSERT_EQ(runScript(env, tmp / "one", &out), 0) << out;
   const std::string one = test::readFile(tmp / "one" / "tables.md");
   for (const std::string heading : {"ATE RMSE", "RPE translation", "Tracked frames", "Dynamic keypoints"}) {
-    EXPECT_FALSE(section(one, heading).empty()) << heading;
-    EXPECT_EQ(section(one, heading), section(two, heading)) << heading;
+    EXPECT_FALSE(test::markdownSection(one, heading).empty()) << heading;
+    EXPECT_EQ(test::markdownSection(one, heading), test::markdownSection(two, heading)) << heading;
   }
   EXPECT_EQ(one.find("at a time"), std::string::npos) << one;
 }

@@ -21,11 +21,9 @@ int runScript(const std::string& env, const std::string& args, std::string* outp
 
 /// The row of `sequence` in the table under the heading that starts with `heading` ("" if none).
 std::string tableRow(const std::string& tables, const std::string& heading, const std::string& sequence) {
-  const auto h = tables.find("### " + heading);
-  if (h == std::string::npos) return "";
-  const auto end = tables.find("\n### ", h + 4);  // the table ends where the next heading starts
-  const auto r = tables.find("| " + sequence + " |", h);
-  return r == std::string::npos || r > end ? "" : tables.substr(r, tables.find('\n', r) - r);
+  const std::string table = test::markdownSection(tables, heading);
+  const auto r = table.find("| " + sequence + " |");
+  return r == std::string::npos ? "" : table.substr(r, table.find('\n', r) - r);
 }
 
 TEST(TumBenchmarkScript, RunsEachModeAndTabulatesItBesideThePapersNumbers) {
