@@ -15,30 +15,28 @@
 #include "tkgslam/dynamic/DynamicFilter.h"
 #include "tkgslam/dynamic/YoloDetector.h"
 #include "tkgslam/io/TumDataset.h"
+#include "SharedData.h"  // tests/
 
 namespace {
 
 using namespace tkgslam;
 
-const std::filesystem::path& sharedDir() {
-  static const std::filesystem::path dir = std::filesystem::path(TKGSLAM_SOURCE_DIR).parent_path() / "shared";
-  return dir;
-}
-
 /// A 640 x 480 frame of the real fr3_walking_xyz sequence with people in it (../shared/datasets/people).
 const cv::Mat& peopleFrame() {
   static const cv::Mat image =
-      cv::imread((sharedDir() / "datasets/people/fr3_walking_xyz_1341846313.592026.png").string(), cv::IMREAD_COLOR);
+      test::sharedDir().empty() ? cv::Mat()
+                                 : cv::imread((test::sharedDir() / "datasets/people/fr3_walking_xyz_1341846313.592026.png").string(),
+                                              cv::IMREAD_COLOR);
   return image;
 }
 
 void BM_YoloDetect(benchmark::State& state) {
-  const auto model = sharedDir() / "models/yolov5n-coco-640.onnx";
+  const std::string model = test::yoloModel();
   if (peopleFrame().empty() || !std::filesystem::is_regular_file(model)) {
     return state.SkipWithError("../shared (people photos, YOLOv5n model) not found");
   }
   dynamic::DetectorParams params;
-  params.model = model.string();
+  params.model = model;
   params.input_size = int(state.range(0));
   params.fit_input = state.range(1) != 0;
   const int tiles = int(state.range(2));
@@ -87,9 +85,10 @@ BENCHMARK(BM_BoxTrackerUpdate)->Unit(benchmark::kMicrosecond);
 
 /// Boxes over ~60 % of a real fr1_xyz frame: whole boxes (0) or the object mask by depth region (1).
 void BM_BoxMask(benchmark::State& state) {
-  const auto seq = sharedDir() / "datasets/rgbd_dataset_freiburg1_xyz";
-  if (!std::filesystem::is_directory(seq)) return state.SkipWithError("../shared/datasets/rgbd_dataset_freiburg1_xyz not found");
-  static const io::RgbdImages frame = io::TumDataset(seq.string()).load(100);
+  if (test::sharedDir().empty() || !std::filesystem::is_directory(test::fr1xyz())) {
+    return state.SkipWithError("../shared/datasets/rgbd_dataset_freiburg1_xyz not found");
+  }
+  static const io::RgbdImages frame = io::TumDataset(test::fr1xyz().string()).load(100);
   std::vector<dynamic::Detection> boxes(3);
   boxes[0].box = cv::Rect2f(20, 40, 130, 420);
   boxes[1].box = cv::Rect2f(250, 20, 120, 450);

@@ -16,6 +16,7 @@
 #include "tkgslam/match/OrbMatcher.h"
 #include "tkgslam/loop/LoopCloser.h"
 #include "tkgslam/place/KeyFrameIndex.h"
+#include "SharedData.h"  // tests/
 #include "loop/KeyFrameWithPoints.h"  // tests/
 #include "optimize/SyntheticBundle.h"  // tests/
 
@@ -32,10 +33,9 @@ struct Fixture {
   bool ok = false;
 
   Fixture() {
-    const std::filesystem::path root(TKGSLAM_SOURCE_DIR);
-    seq = root.parent_path() / "shared/datasets/rgbd_dataset_freiburg1_xyz";
-    if (!std::filesystem::is_directory(seq)) return;
-    config = io::loadConfig((root / "configs/tum_fr1.yaml").string());
+    seq = test::fr1xyz();
+    if (test::sharedDir().empty() || !std::filesystem::is_directory(seq)) return;
+    config = io::loadConfig((test::sourceDir() / "configs/tum_fr1.yaml").string());
     camera = std::make_unique<camera::PinholeCamera>(config.camera);
     extractor = std::make_unique<feature::OrbExtractor>(config.orb);
     io::TumDataset ds(seq.string());

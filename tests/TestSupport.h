@@ -1,5 +1,6 @@
 #pragma once
-// Helpers for tests: locating ../shared (skip when absent), temporary folders, running the CLI.
+// Helpers for tests: skipping when ../shared is absent (SharedData.h locates it), temporary folders,
+// running the CLI.
 #include <sys/wait.h>
 
 #include <cstdlib>
@@ -10,26 +11,15 @@
 
 #include <gtest/gtest.h>
 
+#include "SharedData.h"
+
 namespace tkgslam::test {
-
-inline std::filesystem::path sourceDir() { return TKGSLAM_SOURCE_DIR; }
-
-/// ../shared relative to the repository root (empty path if missing).
-inline std::filesystem::path sharedDir() {
-  const auto p = sourceDir().parent_path() / "shared";
-  return std::filesystem::is_directory(p) ? p : std::filesystem::path();
-}
 
 #define TKGSLAM_REQUIRE_SHARED()                                                             \
   do {                                                                                       \
     if (::tkgslam::test::sharedDir().empty())                                                \
       GTEST_SKIP() << "../shared (datasets/models) not found next to the repository; skipped"; \
   } while (0)
-
-/// The bundled YOLOv5n export in ../shared.
-inline std::string yoloModel() { return (sharedDir() / "models" / "yolov5n-coco-640.onnx").string(); }
-
-inline std::filesystem::path fr1xyz() { return sharedDir() / "datasets" / "rgbd_dataset_freiburg1_xyz"; }
 
 /// A fresh temporary directory, removed when the object dies.
 class TempDir {
