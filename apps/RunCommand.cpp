@@ -207,7 +207,7 @@ int runSlam(const RunOptions& o) {
     for (double t : f.result.interpolated_lost) {
       ++interpolated;
       frame_log << fmt::format(
-          "{:.6f} interpolated lost, then posed between the frames tracked either side (relocalised at {:.6f})\n", t,
+          "{:.6f} interpolated lost, then posed between the frames tracked either side (found again at {:.6f})\n", t,
           f.timestamp);
     }
     if (f.result.predicted) {

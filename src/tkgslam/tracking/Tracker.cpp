@@ -144,7 +144,9 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     if (!localization_only_ && !result.blurred && !rescued && needNewKeyFrame(frame, mapper_idle, mapper_queue)) {
       result.new_keyframe = createKeyFrame(frame);
     }
-    if (result.new_keyframe && !anchor_candidates_.empty()) result.reanchored = reanchorSegment(frame);
+    if (result.new_keyframe && !anchor_candidates_.empty()) {
+      result.reanchored = reanchorSegment(frame, result.interpolated_lost);
+    }
     for (int i = 0; i < frame.size(); ++i) {
       if (frame.outlier[i]) frame.map_points[i].reset();
     }
@@ -156,8 +158,8 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     // the same way (people filling the view for half a second: 9 bridged + 5 lost frames).
     const bool soon_after_loss = after_loss && lost_frames <= cfg_.tracking.relocalization_attempts;
     // (lost_timestamps_ is empty unless soon after a loss: it keeps no more than that many.)
-    if ((gap > 0 || soon_after_loss) && interpolateBridgedRecords(lost_timestamps_) && !lost_timestamps_.empty()) {
-      result.interpolated_lost = std::move(lost_timestamps_);
+    if ((gap > 0 || soon_after_loss) && interpolateBridgedRecords(lost_timestamps_)) {
+      result.interpolated_lost.insert(result.interpolated_lost.end(), lost_timestamps_.begin(), lost_timestamps_.end());
     }
     lost_timestamps_.clear();
     result.tracked = true;
@@ -188,9 +190,12 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
   predicted_frames_ = 0;
   gap_frames_ = 0;
   ++lost_frames_;
+  // The frames lost before this one, if a new segment starts on it as soon as relocalisation gives up.
+  std::vector<double> lost_before;
   if (lost_frames_ <= cfg_.tracking.relocalization_attempts) {
     lost_timestamps_.push_back(frame.timestamp);
   } else {
+    if (lost_frames_ == cfg_.tracking.relocalization_attempts + 1) lost_before = lost_timestamps_;
     lost_timestamps_.clear();  // too long a gap to interpolate across
   }
   temporal_points_.clear();
@@ -212,11 +217,19 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     }
     anchor_candidates_.insert(anchor_candidates_.begin(), kfs.end() - keep, kfs.end());
     anchor_keyframes_left_ = kAnchorAttempts;
+    SegmentGap gap;
+    gap.last_tracked = last_frame_ ? last_frame_->timestamp : -1;
+    gap.previous_segment_kf = keep > 0 ? kfs[kfs.size() - keep]->id : 0;
+    gap.lost = std::move(lost_before);
+    const bool short_gap = last_frame_ && keep > 0 && lost_frames_ == cfg_.tracking.relocalization_attempts + 1;
+    segment_gap_.reset();
     map_.clearActive(keep);
     if (initialize(frame, true)) {
       result.tracked = true;
       result.new_keyframe = last_kf_;
       result.new_segment = true;
+      gap.first_record = records_.size() - 1;
+      if (short_gap) segment_gap_ = std::move(gap);
     }
   }
   return result;
@@ -394,23 +407,30 @@ Pose Tracker::predictPose() const {
 }
 
 bool Tracker::interpolateBridgedRecords(const std::vector<double>& lost) {
-  // The records since the last frame are the provisional ones before this frame's: every frame
-  // posed in between (bridged or blurred) added one. Lost frames have none; they get theirs here.
-  const size_t end = records_.size() - 1;
+  if (!last_frame_) return false;  // (the first frame in a loaded map)
+  return interpolateRecordsBefore(records_.size() - 1, last_frame_->timestamp, lost);
+}
+
+bool Tracker::interpolateRecordsBefore(size_t end, double last_tracked, const std::vector<double>& lost) {
+  // The records since the last tracked frame are the provisional ones before records_[end]: every
+  // frame posed in between (bridged or blurred) added one. Lost frames have none; they get theirs here.
+  if (end >= records_.size()) return false;
   size_t gap = 0;
   while (gap < end && records_[end - 1 - gap].provisional) ++gap;
   if ((gap == 0 && lost.empty()) || gap == end) return false;  // nothing to fill, or no tracked record before it
   const FrameRecord& a = records_[end - gap - 1];
   const FrameRecord& b = records_[end];
-  if (a.timestamp != last_frame_->timestamp || !(b.timestamp > a.timestamp)) return false;
+  if (a.timestamp != last_tracked || !(b.timestamp > a.timestamp)) return false;
   const auto usable = [](const FrameRecord& r) { return r.reference && !r.reference->bad; };
   if (!usable(a) || !usable(b)) return false;
   const Pose T_a = a.T_cw(), T_b = b.T_cw();
   const double t_a = a.timestamp, t_b = b.timestamp;
   const auto reference = b.reference;
   // (Inserting invalidates a and b.)
-  for (double t : lost) records_.insert(records_.end() - 1, {t, reference, Pose::Identity(), true});
-  const size_t last = records_.size() - 1;
+  std::vector<FrameRecord> lost_records;
+  for (double t : lost) lost_records.push_back({t, reference, Pose::Identity(), true});
+  records_.insert(records_.begin() + std::ptrdiff_t(end), lost_records.begin(), lost_records.end());
+  const size_t last = end + lost.size();
   for (size_t k = last - gap - lost.size(); k < last; ++k) {
     FrameRecord& r = records_[k];
     if (!usable(r)) continue;
@@ -650,7 +670,7 @@ bool Tracker::relocalize(Frame& frame) {
   return false;
 }
 
-bool Tracker::reanchorSegment(Frame& frame) {
+bool Tracker::reanchorSegment(Frame& frame, std::vector<double>& interpolated_lost) {
   // Nearest first: the new segment starts where the camera was last seen, so it is roughly in
   // the previous segment's frame already.
   const Vec3 c = frame.centre();
@@ -698,6 +718,8 @@ bool Tracker::reanchorSegment(Frame& frame) {
     last_frame_->T_cw = orthonormalized(last_frame_->T_cw * T_old_new.inverse());
     spdlog::info("frame {}: map segment re-anchored to keyframe {} of the previous one ({} inliers, moved {:.3f} m)",
                  frame.id, old->id, inliers, T_old_new.translation().norm());
+    const auto posed = poseFramesLostBeforeSegment(*old);
+    interpolated_lost.insert(interpolated_lost.end(), posed.begin(), posed.end());
     releaseAnchor();
     return true;
   }
@@ -708,6 +730,17 @@ bool Tracker::reanchorSegment(Frame& frame) {
 void Tracker::releaseAnchor() {
   for (auto& kf : anchor_candidates_) kf->releaseFeatures();
   anchor_candidates_.clear();
+  segment_gap_.reset();
+}
+
+std::vector<double> Tracker::poseFramesLostBeforeSegment(const KeyFrame& anchor) {
+  // Only when anchored to the segment just before: an older one's frame is not the frame the
+  // records before this segment are in.
+  if (!segment_gap_ || anchor.id < segment_gap_->previous_segment_kf) return {};
+  const SegmentGap& g = *segment_gap_;
+  if (!interpolateRecordsBefore(g.first_record, g.last_tracked, g.lost)) return {};
+  spdlog::debug("{} frames lost before the segment started posed between the segments' frames", g.lost.size());
+  return g.lost;
 }
 
 }  // namespace tkgslam::tracking

@@ -8,6 +8,7 @@
 #include <functional>
 #include <deque>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "tkgslam/camera/PinholeCamera.h"
@@ -41,8 +42,9 @@ struct TrackResult {
   /// The tracked pose jumped away from the motion model's prediction (TrackingParams::max_jump_deg)
   /// and was not used; the frame was then bridged or lost like an untrackable one.
   bool jump_rejected = false;
-  /// Relocalised soon after a loss: the timestamps of the frames lost since the last tracked
-  /// frame, which now have poses interpolated between the two (see Tracker::track).
+  /// Relocalised soon after a loss, or re-anchored a new segment that started right after one:
+  /// the timestamps of the frames lost in between, which now have poses interpolated between the
+  /// frames tracked either side (see Tracker::track).
   std::vector<double> interpolated_lost;
 };
 
@@ -118,9 +120,13 @@ class Tracker {
   /// A new map segment started at the last known pose, off by however far the camera moved while
   /// lost. Once a new keyframe sees what one of the previous segment's last keyframes saw, the
   /// segment is moved into the previous segment's world frame (one rigid correction), so both
-  /// halves of the trajectory line up. Returns true when it did.
-  bool reanchorSegment(data::Frame& frame);
+  /// halves of the trajectory line up. Returns true when it did; the frames lost just before the
+  /// segment started that then got poses are appended to `interpolated_lost`.
+  bool reanchorSegment(data::Frame& frame, std::vector<double>& interpolated_lost);
   void releaseAnchor();
+  /// After a re-anchoring to the segment before: the frames lost just before this segment started
+  /// get poses interpolated as after a quick relocalisation. Returns their timestamps.
+  std::vector<double> poseFramesLostBeforeSegment(const data::KeyFrame& anchor);
   bool trackLocalMap(data::Frame& frame);
   void updateLastFrame();
   void updateLocalMap(data::Frame& frame);
@@ -139,6 +145,9 @@ class Tracker {
   /// and so do the `lost` frames (timestamps, after the bridged ones), which get records first.
   /// False if there was nothing to interpolate from (the records are left as they are).
   bool interpolateBridgedRecords(const std::vector<double>& lost);
+  /// The same between records_[end] and the last tracked record before it, which must be the
+  /// frame at `last_tracked` (timestamp).
+  bool interpolateRecordsBefore(size_t end, double last_tracked, const std::vector<double>& lost);
   /// The tracked pose is further from the constant-velocity prediction than a camera moves in
   /// `periods` frame periods (the tracking.max_jump_* limits are per period).
   bool poseJumped(const Pose& T_cw, int periods) const;
@@ -178,6 +187,15 @@ class Tracker {
   std::vector<std::shared_ptr<data::KeyFrame>> anchor_candidates_;
   size_t anchor_turn_ = 0;
   int anchor_keyframes_left_ = 0;  ///< new keyframes that may still try before giving up
+  /// A new segment started as soon as relocalisation gave up (after relocalization_attempts lost
+  /// frames): what re-anchoring it to the segment before needs to pose those lost frames.
+  struct SegmentGap {
+    size_t first_record = 0;           ///< records_ index of the new segment's first frame
+    double last_tracked = 0;           ///< timestamp of the previous segment's last tracked frame
+    long previous_segment_kf = 0;      ///< anchor candidates from the segment before have ids >= this
+    std::vector<double> lost;          ///< timestamps of the frames lost in between
+  };
+  std::optional<SegmentGap> segment_gap_;
 };
 
 }  // namespace tkgslam::tracking
