@@ -49,6 +49,12 @@ struct TrackingParams {
   /// other. Off by default: 60 helps synchronous TKG on the extreme composites a lot but makes the
   /// lookahead modes lose tracking more often (bench/results/extreme_sensitivity_300.md).
   int min_rescued_inliers = 0;
+  /// At the end of a run (and for frames older than Tracker::kPoseCheckWindow), each tracked frame's
+  /// pose is checked against the map as it then is: where the pose its own inlier matches give in
+  /// that map is further than this (metres, camera centre) from the stored one - the frame was
+  /// tracked wrong, e.g. on a person the detector missed, and bundle adjustment later corrected the
+  /// points but not the keyframe the frame is stored against - that pose replaces it. 0 = off.
+  double pose_check_m = 0.02;
 };
 
 struct MappingParams {

@@ -269,6 +269,7 @@ std::vector<FrameOutcome> SlamSystem::finish() {
     trackHeld(std::move(final_boxes), held_.back().index, out);
   }
   mapping_thread_->drain();
+  if (config_.tracking.pose_check_m > 0) tracker_->checkPosesAgainstMap();
   return out;
 }
 

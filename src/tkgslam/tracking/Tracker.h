@@ -48,9 +48,22 @@ struct TrackResult {
   std::vector<double> interpolated_lost;
 };
 
+/// One inlier match of a tracked frame, kept until its pose is checked against the map
+/// (Tracker::checkPosesAgainstMap).
+struct RecordedMatch {
+  std::weak_ptr<data::MapPoint> point;  ///< not kept alive: a point culled since no longer counts
+  float u = 0, v = 0;                   ///< ideal pixel
+  float u_right = -1;                   ///< virtual right-camera u, < 0 = none
+  int octave = 0;
+};
+
 /// A frame's pose stored relative to its reference keyframe, so that later keyframe
 /// corrections (bundle adjustment) also move the frames tracked against them.
 struct FrameRecord {
+  FrameRecord() = default;
+  FrameRecord(double t, std::shared_ptr<data::KeyFrame> ref, const Pose& T, bool is_provisional = false)
+      : timestamp(t), reference(std::move(ref)), T_cr(T), provisional(is_provisional) {}
+
   double timestamp = 0;
   std::shared_ptr<data::KeyFrame> reference;
   Pose T_cr = Pose::Identity();
@@ -58,6 +71,8 @@ struct FrameRecord {
   /// motion-blurred image (smeared keypoints). Once tracking resumes on a later frame it is
   /// replaced by the pose interpolated between the frames tracked either side.
   bool provisional = false;
+  /// A tracked frame's inlier matches, until its pose has been checked (TrackingParams::pose_check_m).
+  std::vector<RecordedMatch> matches;
 
   /// World -> camera pose through the reference keyframe as it is now; a culled reference is
   /// replaced by its spanning-tree parent.
@@ -95,6 +110,11 @@ class Tracker {
   bool looksBlurred(double sharpness) const;
   /// Tracked (and motion-model predicted) frames so far; lost frames have no record.
   const std::vector<FrameRecord>& records() const { return records_; }
+  /// Checks the tracked frames not checked yet against the map as it is now (TrackingParams::
+  /// pose_check_m): a frame whose own matches put it further than that from its stored pose gets
+  /// that pose. Call at the end of a run (frames older than kPoseCheckWindow are checked as tracking
+  /// goes on, so that their matches need not be kept). Returns the poses replaced. Map lock held.
+  int checkPosesAgainstMap();
   /// The most recent frame (features, matches, pose) - for diagnostics.
   const data::Frame* lastFrame() const { return last_frame_.get(); }
 
@@ -105,6 +125,8 @@ class Tracker {
   /// A wrong correction would move the whole segment: as many inliers (reprojection and depth
   /// both consistent) as ORB-SLAM2 asks of a loop closure, more than of a relocalisation.
   static constexpr int kAnchorMinInliers = 40;
+  /// Records whose matches are kept for the pose check (30 s at 30 Hz; ~8 kB each).
+  static constexpr size_t kPoseCheckWindow = 900;
   static constexpr size_t kSharpnessWindow = 15;  ///< sharp frames whose median sharpness is the yardstick
 
   bool canInitialize(const data::Frame& frame) const;
@@ -151,6 +173,9 @@ class Tracker {
   /// The tracked pose is further from the constant-velocity prediction than a camera moves in
   /// `periods` frame periods (the tracking.max_jump_* limits are per period).
   bool poseJumped(const Pose& T_cw, int periods) const;
+  /// The pose check of one record (see checkPosesAgainstMap); releases its matches. True if the
+  /// pose was replaced.
+  bool checkRecordPose(FrameRecord& record);
 
   data::Map& map_;
   const camera::PinholeCamera& cam_;
