@@ -455,7 +455,9 @@ int Tracker::checkPosesAgainstMap() {
   std::lock_guard<std::mutex> lock(map_.mutex());
   int replaced = 0;
   for (auto& r : records_) replaced += checkRecordPose(r);
-  spdlog::debug("pose check: {} frame poses replaced by the ones their matches give in the final map", replaced);
+  if (replaced > 0) {
+    spdlog::info("pose check: {} frame pose(s) replaced by the one their matches give in the final map", replaced);
+  }
   return replaced;
 }
 

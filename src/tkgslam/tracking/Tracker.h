@@ -113,7 +113,7 @@ class Tracker {
   /// Checks the tracked frames not checked yet against the map as it is now (TrackingParams::
   /// pose_check_m): a frame whose own matches put it further than that from its stored pose gets
   /// that pose. Call at the end of a run (frames older than kPoseCheckWindow are checked as tracking
-  /// goes on, so that their matches need not be kept). Returns the poses replaced. Map lock held.
+  /// goes on, so that their matches need not be kept). Returns the poses replaced. Takes the map lock.
   int checkPosesAgainstMap();
   /// The most recent frame (features, matches, pose) - for diagnostics.
   const data::Frame* lastFrame() const { return last_frame_.get(); }
