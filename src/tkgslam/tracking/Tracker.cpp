@@ -205,7 +205,7 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
   if (lost_frames_ <= cfg_.tracking.relocalization_attempts) {
     lost_timestamps_.push_back(frame.timestamp);
   } else {
-    if (lost_frames_ == cfg_.tracking.relocalization_attempts + 1) lost_before = lost_timestamps_;
+    if (lost_frames_ == cfg_.tracking.relocalization_attempts + 1) lost_before.swap(lost_timestamps_);
     lost_timestamps_.clear();  // too long a gap to interpolate across
   }
   temporal_points_.clear();
@@ -227,19 +227,21 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     }
     anchor_candidates_.insert(anchor_candidates_.begin(), kfs.end() - keep, kfs.end());
     anchor_keyframes_left_ = kAnchorAttempts;
-    SegmentGap gap;
-    gap.last_tracked = last_frame_ ? last_frame_->timestamp : -1;
-    gap.previous_segment_kf = keep > 0 ? kfs[kfs.size() - keep]->id : 0;
-    gap.lost = std::move(lost_before);
-    const bool short_gap = last_frame_ && keep > 0 && lost_frames_ == cfg_.tracking.relocalization_attempts + 1;
+    // (initialize() replaces last_frame_: what the gap needs of it is taken first.)
+    std::optional<SegmentGap> gap;
+    if (last_frame_ && keep > 0 && lost_frames_ == cfg_.tracking.relocalization_attempts + 1) {
+      gap = SegmentGap{0, last_frame_->timestamp, kfs[kfs.size() - keep]->id, std::move(lost_before)};
+    }
     segment_gap_.reset();
     map_.clearActive(keep);
     if (initialize(frame, true)) {
       result.tracked = true;
       result.new_keyframe = last_kf_;
       result.new_segment = true;
-      gap.first_record = records_.size() - 1;
-      if (short_gap) segment_gap_ = std::move(gap);
+      if (gap) {
+        gap->first_record = records_.size() - 1;
+        segment_gap_ = std::move(gap);
+      }
     }
   }
   return result;
@@ -764,8 +766,7 @@ bool Tracker::reanchorSegment(Frame& frame, std::vector<double>& interpolated_lo
     last_frame_->T_cw = orthonormalized(last_frame_->T_cw * T_old_new.inverse());
     spdlog::info("frame {}: map segment re-anchored to keyframe {} of the previous one ({} inliers, moved {:.3f} m)",
                  frame.id, old->id, inliers, T_old_new.translation().norm());
-    const auto posed = poseFramesLostBeforeSegment(*old);
-    interpolated_lost.insert(interpolated_lost.end(), posed.begin(), posed.end());
+    poseFramesLostBeforeSegment(*old, interpolated_lost);
     releaseAnchor();
     return true;
   }
@@ -779,14 +780,14 @@ void Tracker::releaseAnchor() {
   segment_gap_.reset();
 }
 
-std::vector<double> Tracker::poseFramesLostBeforeSegment(const KeyFrame& anchor) {
+void Tracker::poseFramesLostBeforeSegment(const KeyFrame& anchor, std::vector<double>& interpolated_lost) {
   // Only when anchored to the segment just before: an older one's frame is not the frame the
   // records before this segment are in.
-  if (!segment_gap_ || anchor.id < segment_gap_->previous_segment_kf) return {};
+  if (!segment_gap_ || anchor.id < segment_gap_->previous_segment_kf) return;
   const SegmentGap& g = *segment_gap_;
-  if (!interpolateRecordsBefore(g.first_record, g.last_tracked, g.lost)) return {};
+  if (!interpolateRecordsBefore(g.first_record, g.last_tracked, g.lost)) return;
   spdlog::debug("{} frames lost before the segment started posed between the segments' frames", g.lost.size());
-  return g.lost;
+  interpolated_lost.insert(interpolated_lost.end(), g.lost.begin(), g.lost.end());
 }
 
 }  // namespace tkgslam::tracking

@@ -147,8 +147,9 @@ class Tracker {
   bool reanchorSegment(data::Frame& frame, std::vector<double>& interpolated_lost);
   void releaseAnchor();
   /// After a re-anchoring to the segment before: the frames lost just before this segment started
-  /// get poses interpolated as after a quick relocalisation. Returns their timestamps.
-  std::vector<double> poseFramesLostBeforeSegment(const data::KeyFrame& anchor);
+  /// get poses interpolated as after a quick relocalisation; their timestamps are appended to
+  /// `interpolated_lost`.
+  void poseFramesLostBeforeSegment(const data::KeyFrame& anchor, std::vector<double>& interpolated_lost);
   bool trackLocalMap(data::Frame& frame);
   void updateLastFrame();
   void updateLocalMap(data::Frame& frame);
