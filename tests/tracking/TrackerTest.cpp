@@ -32,8 +32,10 @@ Vec3 centreOf(const tracking::FrameRecord& r) { return r.T_cw().inverse().transl
 /// Changes frame i before it is tracked (excluded keypoints, box cover); may return a geometry check.
 using FrameEdit = std::function<tracking::RefineKeypoints(int i, data::Frame& frame)>;
 
-/// Tracks the first `frames` frames of fr1_xyz, each edited by `edit`.
-std::vector<FrameOutcome> trackEdited(const SlamConfig& config, int frames, const FrameEdit& edit) {
+/// Tracks the first `frames` frames of fr1_xyz, each edited by `edit`; finishes as SlamSystem
+/// does (`interpolate_again`: the last step of it).
+std::vector<FrameOutcome> trackEdited(const SlamConfig& config, int frames, const FrameEdit& edit,
+                                      bool interpolate_again = true) {
   const camera::PinholeCamera camera(config.camera);
   const feature::OrbExtractor extractor(config.orb);
   data::Map map;
@@ -61,6 +63,7 @@ std::vector<FrameOutcome> trackEdited(const SlamConfig& config, int frames, cons
   mapping.drain();
   // As SlamSystem::finish.
   if (config.tracking.pose_check_m > 0) tracker.checkPosesAgainstMap();
+  if (interpolate_again) tracker.interpolateAgainInFinalMap();
   for (const auto& rec : tracker.records()) {
     for (auto& o : out) {
       if (o.timestamp == rec.timestamp) o.saved = centreOf(rec), o.in_trajectory = true;
@@ -260,6 +263,54 @@ TEST(Tracker, AFrameTrackedWrongGetsThePoseItsMatchesGiveInTheFinalMap) {
   int same = 0;
   for (int i = 0; i < kFrames; ++i) same += i != kWrong && checked[i].saved == unchecked[i].saved;
   EXPECT_GE(same, kFrames - 5);
+}
+
+TEST(Tracker, BridgedFramesAreInterpolatedAgainBetweenTheFinalPosesEitherSide) {
+  TKGSLAM_REQUIRE_SHARED();
+  // 7 covered frames are bridged; the frame after them is tracked 5 cm off, so they are first
+  // interpolated towards a wrong pose. That frame becomes a keyframe, which local BA puts right
+  // (measured: 2.3 mm off at the end), and the bridged frames are interpolated again towards it.
+  constexpr int kFrames = 70, kFrom = 40, kTo = 47;
+  const auto run = [&](bool interpolate_again) {
+    SlamConfig config = fr1Config();
+    config.deterministic = true;
+    config.tracking.covered_ratio = 0.9;
+    return trackEdited(
+        config, kFrames,
+        [&](int i, data::Frame& frame) {
+          tracking::RefineKeypoints move_off;
+          if (i >= kFrom && i < kTo) {
+            std::fill(frame.features->excluded.begin(), frame.features->excluded.end(), 1);
+            frame.box_cover = 1.0;
+          } else if (i == kTo) {
+            move_off = [](data::Frame& f, const std::vector<std::shared_ptr<data::KeyFrame>>&) {
+              f.T_cw = Pose(Eigen::Translation3d(0.05, 0, 0)) * f.T_cw;
+              return 0;
+            };
+          }
+          return move_off;
+        },
+        interpolate_again);
+  };
+  const auto clear = trackWithCover(0.9, kFrames, kFrames, kFrames);
+  const auto again = run(true);
+  const auto once = run(false);
+  const auto error = [&](const std::vector<FrameOutcome>& o, int i) { return (o[i].saved - clear[i].saved).norm(); };
+  ASSERT_TRUE(again[kTo].tracked && !again[kTo].predicted);
+  EXPECT_TRUE(again[kTo].keyframe);
+  EXPECT_LT(error(again, kTo), 0.01);
+  EXPECT_LT(error(once, kTo), 0.01);
+  double error_again = 0, error_once = 0;
+  for (int i = kFrom; i < kTo; ++i) {
+    ASSERT_TRUE(again[i].predicted && again[i].in_trajectory) << i;
+    EXPECT_LT(error(again, i), 0.015) << i;
+    error_again += error(again, i);
+    error_once += error(once, i);
+  }
+  // Interpolated once, the last bridged frames lean towards the wrong pose (measured: 0.044 m at
+  // the last, 0.20 m summed over the 7; again: 0.043 m summed).
+  EXPECT_GT(error(once, kTo - 1), 0.03);
+  EXPECT_LT(error_again, 0.6 * error_once) << "again " << error_again << " m, once " << error_once << " m";
 }
 
 TEST(Tracker, FramesOnlyReadmittedKeypointsTrackNeedMoreInliersAndMakeNoKeyframes) {

@@ -135,6 +135,8 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     // (No last frame: the first frame of a run in a loaded map.)
     if (last_frame_) velocity_ = orthonormalized(poseRoot(frame.T_cw * last_frame_->T_cw.inverse(), gap_frames_ + 1));
     has_velocity_ = !after_loss;
+    spdlog::debug("frame {}: velocity {:.3f} m / {:.2f} deg per frame (over {} frames)", frame.id,
+                  velocity_.translation().norm(), rotationAngle(velocity_.linear()) * 180.0 / M_PI, gap_frames_ + 1);
     const int gap = gap_frames_;
     gap_frames_ = 0;
     predicted_frames_ = 0;
@@ -449,8 +451,43 @@ bool Tracker::interpolateRecordsBefore(size_t end, double last_tracked, const st
     const double s = (r.timestamp - t_a) / (t_b - t_a);
     r.T_cr = interpolatePose(T_a, T_b, s) * r.reference->T_wc();
     r.provisional = false;
+    r.interpolated = true;
   }
   return true;
+}
+
+int Tracker::interpolateAgainInFinalMap() {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  int posed = 0;
+  for (size_t i = 0; i < records_.size();) {
+    if (!records_[i].interpolated) {
+      ++i;
+      continue;
+    }
+    size_t j = i;  // [i, j): a run of interpolated records
+    while (j < records_.size() && records_[j].interpolated) ++j;
+    if (i == 0 || j == records_.size()) {
+      i = j;
+      continue;
+    }
+    const FrameRecord& a = records_[i - 1];
+    const FrameRecord& b = records_[j];
+    const auto usable = [](const FrameRecord& r) { return r.reference && !r.provisional; };
+    if (usable(a) && usable(b) && b.timestamp > a.timestamp) {
+      const Pose T_a = a.T_cw(), T_b = b.T_cw();
+      for (size_t k = i; k < j; ++k) {
+        FrameRecord& r = records_[k];
+        if (!r.reference) continue;
+        // T_cw() = T_cr * (the reference's pose, through the parents of a culled one).
+        const Pose through_reference = r.T_cr.inverse() * r.T_cw();
+        const double s = (r.timestamp - a.timestamp) / (b.timestamp - a.timestamp);
+        r.T_cr = orthonormalized(interpolatePose(T_a, T_b, s) * through_reference.inverse());
+        ++posed;
+      }
+    }
+    i = j;
+  }
+  return posed;
 }
 
 int Tracker::checkPosesAgainstMap() {

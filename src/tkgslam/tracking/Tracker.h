@@ -71,6 +71,9 @@ struct FrameRecord {
   /// motion-blurred image (smeared keypoints). Once tracking resumes on a later frame it is
   /// replaced by the pose interpolated between the frames tracked either side.
   bool provisional = false;
+  /// The pose was interpolated between the tracked records either side (the ones next to this
+  /// frame's run of interpolated records); Tracker::interpolateAgainInFinalMap redoes it at the end.
+  bool interpolated = false;
   /// A tracked frame's inlier matches, until its pose has been checked (TrackingParams::pose_check_m).
   std::vector<RecordedMatch> matches;
 
@@ -115,6 +118,11 @@ class Tracker {
   /// that pose. Call at the end of a run (frames older than kPoseCheckWindow are checked as tracking
   /// goes on, so that their matches need not be kept). Returns the poses replaced. Takes the map lock.
   int checkPosesAgainstMap();
+  /// Interpolates the interpolated records again, between the final poses of the tracked records
+  /// either side: a loop closure or the pose check may have moved those since, while an
+  /// interpolated record follows only its own reference keyframe. Call at the end of a run, after
+  /// checkPosesAgainstMap. Returns the records posed again. Takes the map lock.
+  int interpolateAgainInFinalMap();
   /// The most recent frame (features, matches, pose) - for diagnostics.
   const data::Frame* lastFrame() const { return last_frame_.get(); }
 
