@@ -72,13 +72,13 @@ class ForkedMap : public ::testing::Test {
       kf->parent = const_cast<data::KeyFrame*>(previous);  // a spanning tree, as mapping makes one
       previous = kf.get();
     }
-    Pose G = Pose::Identity();  // true world -> forked world
+    G_ = Pose::Identity();
     if (fork) {
-      G.linear() = Eigen::AngleAxisd(10 * kDeg, Vec3(0.2, 1, 0.1).normalized()).toRotationMatrix();
-      G.translation() = Vec3(0.15, -0.05, 0.03);
+      G_.linear() = Eigen::AngleAxisd(10 * kDeg, Vec3(0.2, 1, 0.1).normalized()).toRotationMatrix();
+      G_.translation() = Vec3(0.15, -0.05, 0.03);
     }
-    first_ = addKeyFrame(30, truePose(30) * G.inverse());
-    second_ = addKeyFrame(33, truePose(33) * G.inverse());
+    first_ = addKeyFrame(30, truePose(30) * G_.inverse());
+    second_ = addKeyFrame(33, truePose(33) * G_.inverse());
     for (size_t k = 0; k < first_->map_points.size() && k < second_->map_points.size(); k += 2) {
       // Share every other point of the first keyframe with the second (covisibility only).
       const auto& mp = first_->map_points[k];
@@ -90,6 +90,24 @@ class ForkedMap : public ::testing::Test {
     first_->updateConnections();
     second_->updateConnections();
     ASSERT_EQ(first_->connections.count(old_.get()), 0u);
+  }
+
+  // A keyframe of frame 31 in the forked world (made after the two new ones, so processed in
+  // between them in the tests) that detects no loop: it shares points with the old keyframe, so the
+  // old one is no candidate (covisible), and the new ones agree with it.
+  std::shared_ptr<data::KeyFrame> addKeyFrameThatFindsNoLoop() {
+    auto kf = addKeyFrame(31, truePose(31) * G_.inverse());
+    int shared = 0;
+    for (size_t k = 0; k < kf->map_points.size() && k < old_->map_points.size() && shared < 30; ++k) {
+      const auto& mp = old_->map_points[k];
+      if (!mp || kf->map_points[k]) continue;
+      mp->observations[kf.get()] = int(k);
+      kf->addMapPoint(mp, int(k));
+      ++shared;
+    }
+    kf->updateConnections();
+    EXPECT_EQ(kf->connections.count(old_.get()), 1u);
+    return kf;
   }
 
   // Median reprojection error (pixels) of the new keyframes' observations of the old keyframe's
@@ -123,6 +141,7 @@ class ForkedMap : public ::testing::Test {
   std::unique_ptr<io::TumDataset> dataset_;
   std::vector<io::TrajectoryEntry> truth_;
   data::Map map_;
+  Pose G_ = Pose::Identity();  ///< true world -> forked world
   std::shared_ptr<data::KeyFrame> old_, first_, second_;
 };
 
@@ -204,6 +223,31 @@ TEST_F(ForkedMap, WithConfirmationASingleDetectionIsNotEnough) {
   EXPECT_EQ(closer.stats().detected, 1);
   EXPECT_EQ(closer.stats().closed, 0);
   EXPECT_TRUE(first_->T_cw().isApprox(before));
+}
+
+TEST_F(ForkedMap, ADetectionWaitsAFewKeyframesForItsConfirmation) {
+  // A keyframe in between that sees too little of the old place (a person in front of it) does not
+  // cancel the first detection: the next one confirms it (loop.confirm_within, 3).
+  build(/*fork=*/true);
+  const auto between = addKeyFrameThatFindsNoLoop();
+  loop::LoopCloser closer(map_, *camera_, extractor_->pyramid(), config_);
+  EXPECT_FALSE(closer.process(first_));
+  EXPECT_FALSE(closer.process(between));
+  EXPECT_EQ(closer.stats().detected, 1);
+  ASSERT_TRUE(closer.process(second_));
+  EXPECT_LT(centreError(*second_, truePose(33)), 0.02);
+}
+
+TEST_F(ForkedMap, WithConfirmationByTheNextKeyframeOnlyOneInBetweenCancelsIt) {
+  build(/*fork=*/true);
+  const auto between = addKeyFrameThatFindsNoLoop();
+  config_.loop.confirm_within = 1;
+  loop::LoopCloser closer(map_, *camera_, extractor_->pyramid(), config_);
+  EXPECT_FALSE(closer.process(first_));
+  EXPECT_FALSE(closer.process(between));
+  EXPECT_FALSE(closer.process(second_));  // detected again, but now waiting for its own confirmation
+  EXPECT_EQ(closer.stats().detected, 2);
+  EXPECT_EQ(closer.stats().closed, 0);
 }
 
 TEST_F(ForkedMap, WhereTheMapAlreadyHasTheCameraNothingMoves) {

@@ -154,6 +154,7 @@ void forEachKey(Config& c, Visit&& key) {
   key("mapping", "cull_keyframes", c.mapping.cull_keyframes, false);
   key("loop", "enabled", c.loop.enabled, false);
   key("loop", "confirm", c.loop.confirm, false);
+  key("loop", "confirm_within", c.loop.confirm_within, false);
   key("loop", "min_inliers", c.loop.min_inliers, false);
   key("loop", "min_keyframe_gap", c.loop.min_keyframe_gap, false);
   key("loop", "candidates", c.loop.candidates, false);
@@ -325,6 +326,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
   require(c.mapping.keyframe_redundancy > 0 && c.mapping.keyframe_redundancy <= 1, source,
           "mapping.keyframe_redundancy must be in (0, 1]");
   require(c.loop.min_inliers >= 10, source, "loop.min_inliers must be >= 10");
+  require(c.loop.confirm_within >= 1, source, "loop.confirm_within must be >= 1 (1 = the next keyframe only)");
   require(c.loop.min_keyframe_gap >= 1, source, "loop.min_keyframe_gap must be >= 1");
   require(c.loop.candidates >= 1, source, "loop.candidates must be >= 1");
   require(c.loop.word_candidates >= 0, source, "loop.word_candidates must be >= 0 (0 = every candidate)");

@@ -54,13 +54,16 @@ bool LoopCloser::process(const std::shared_ptr<KeyFrame>& kf) {
   std::optional<Loop> loop = detect(kf);
   stats_.total_ms += msSince(t0);
   if (!loop) {
-    pending_.reset();
+    // A detection may wait a few keyframes for its confirmation: the keyframes in between may see
+    // too little of the old place (a person in front, a blurred image).
+    if (pending_ && ++pending_waited_ >= cfg_.loop.confirm_within) pending_.reset();
     return false;
   }
   // With loop.confirm one detection may be a coincidence (a repeated texture, a mover's points
   // that slipped through): the next keyframe must find the same correction.
   const bool confirmed = !cfg_.loop.confirm || (pending_ && agree(*pending_, *loop));
   if (!confirmed) {
+    pending_waited_ = 0;
     pending_ = std::move(loop);
     return false;
   }

@@ -113,7 +113,8 @@ class LoopCloser {
   const SlamConfig& cfg_;
   match::OrbMatcher matcher_;
   optimize::PinholeIntrinsics K_;
-  std::optional<Loop> pending_;  ///< detected on the previous keyframe, awaiting confirmation
+  std::optional<Loop> pending_;  ///< detected on a recent keyframe, awaiting confirmation
+  int pending_waited_ = 0;       ///< keyframes checked since, without a detection
   place::KeyFrameDatabase places_{2.0};  ///< the map's keyframes by words, retrained when it doubled
   LoopStats stats_;
 };

@@ -73,14 +73,16 @@ struct MappingParams {
 };
 
 /// Loop closing (ORB-SLAM2's LoopClosing for RGB-D, without a vocabulary): each new keyframe is
-/// matched against the older keyframes it shares no map points with; when it and the next keyframe
-/// find the camera far from where the map has it, the keyframes are corrected by an SE(3) pose graph and the two sides'
+/// matched against the older keyframes it shares no map points with; when it and one of the next
+/// keyframes find the camera far from where the map has it, the keyframes are corrected by an SE(3) pose graph and the two sides'
 /// points fused. See loop::LoopCloser.
 struct LoopParams {
   bool enabled = true;
   /// Close only once the next keyframe finds the same correction: where the old map is itself
   /// off (people over the first frames), single detections pulled it further off.
   bool confirm = true;
+  /// ... found by one of the next this many keyframes (1 = the next one only).
+  int confirm_within = 3;
   int min_inliers = 40;         ///< PnP + pose-optimisation inliers against the old keyframe
   int min_keyframe_gap = 10;    ///< candidates are at least this many keyframes older
   int candidates = 3;           ///< old keyframes verified per new keyframe (best by descriptor matches)
