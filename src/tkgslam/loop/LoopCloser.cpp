@@ -60,7 +60,7 @@ bool LoopCloser::process(const std::shared_ptr<KeyFrame>& kf) {
     return false;
   }
   // With loop.confirm one detection may be a coincidence (a repeated texture, a mover's points
-  // that slipped through): the next keyframe must find the same correction.
+  // that slipped through): one of the next loop.confirm_within keyframes must find the same correction.
   const bool confirmed = !cfg_.loop.confirm || (pending_ && agree(*pending_, *loop));
   if (!confirmed) {
     pending_waited_ = 0;

@@ -12,8 +12,8 @@
 //    the best `loop.candidates` are verified: EPnP + RANSAC, the pose-only optimisation, then the
 //    old keyframe's neighbourhood searched by projection and the pose optimised again (at least
 //    loop.min_inliers inliers, depth included). A pose further than loop.min_correction_m / _deg
-//    from the map's is a loop; with loop.confirm only once the next keyframe finds the same
-//    correction (within 3 cm and 2 deg);
+//    from the map's is a loop; with loop.confirm only once one of the next loop.confirm_within
+//    keyframes finds the same correction (within 3 cm and 2 deg);
 //  - correction: an SE(3) pose graph over the active keyframes - spanning tree and covisibility
 //    edges weighted by their shared points, the loop edge far stronger - with the oldest keyframe
 //    fixed, so the correction goes where the two branches are weakly tied (that may be the old

@@ -74,14 +74,15 @@ struct MappingParams {
 
 /// Loop closing (ORB-SLAM2's LoopClosing for RGB-D, without a vocabulary): each new keyframe is
 /// matched against the older keyframes it shares no map points with; when it and one of the next
-/// keyframes find the camera far from where the map has it, the keyframes are corrected by an SE(3) pose graph and the two sides'
-/// points fused. See loop::LoopCloser.
+/// keyframes find the camera far from where the map has it, the keyframes are corrected by an
+/// SE(3) pose graph and the two sides' points fused. See loop::LoopCloser.
 struct LoopParams {
   bool enabled = true;
-  /// Close only once the next keyframe finds the same correction: where the old map is itself
+  /// Close only once a later keyframe finds the same correction: where the old map is itself
   /// off (people over the first frames), single detections pulled it further off.
   bool confirm = true;
-  /// ... found by one of the next this many keyframes (1 = the next one only).
+  /// ... one of the next this many keyframes (1 = the next one only); those in between that find
+  /// no loop (a person in front, a blurred image) do not cancel the detection.
   int confirm_within = 3;
   int min_inliers = 40;         ///< PnP + pose-optimisation inliers against the old keyframe
   int min_keyframe_gap = 10;    ///< candidates are at least this many keyframes older
