@@ -32,6 +32,11 @@ Pose FrameRecord::T_cw() const {
   return T * kf->T_cw();
 }
 
+void FrameRecord::setT_cw(const Pose& T) {
+  const Pose through_reference = T_cr.inverse() * T_cw();  // T_cw() = T_cr * through_reference
+  T_cr = orthonormalized(T * through_reference.inverse());
+}
+
 TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, const RefineKeypoints& refine) {
   std::lock_guard<std::mutex> lock(map_.mutex());
   TrackResult result;
@@ -135,8 +140,10 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     // (No last frame: the first frame of a run in a loaded map.)
     if (last_frame_) velocity_ = orthonormalized(poseRoot(frame.T_cw * last_frame_->T_cw.inverse(), gap_frames_ + 1));
     has_velocity_ = !after_loss;
-    spdlog::debug("frame {}: velocity {:.3f} m / {:.2f} deg per frame (over {} frames)", frame.id,
-                  velocity_.translation().norm(), rotationAngle(velocity_.linear()) * 180.0 / M_PI, gap_frames_ + 1);
+    if (spdlog::should_log(spdlog::level::debug)) {  // (not worth an acos per frame otherwise)
+      spdlog::debug("frame {}: velocity {:.3f} m / {:.2f} deg per frame (over {} frames)", frame.id,
+                    velocity_.translation().norm(), rotationAngle(velocity_.linear()) * 180.0 / M_PI, gap_frames_ + 1);
+    }
     const int gap = gap_frames_;
     gap_frames_ = 0;
     predicted_frames_ = 0;
@@ -478,10 +485,7 @@ int Tracker::interpolateAgainInFinalMap() {
       for (size_t k = i; k < j; ++k) {
         FrameRecord& r = records_[k];
         if (!r.reference) continue;
-        // T_cw() = T_cr * (the reference's pose, through the parents of a culled one).
-        const Pose through_reference = r.T_cr.inverse() * r.T_cw();
-        const double s = (r.timestamp - a.timestamp) / (b.timestamp - a.timestamp);
-        r.T_cr = orthonormalized(interpolatePose(T_a, T_b, s) * through_reference.inverse());
+        r.setT_cw(interpolatePose(T_a, T_b, (r.timestamp - a.timestamp) / (b.timestamp - a.timestamp)));
         ++posed;
       }
     }

@@ -80,6 +80,8 @@ struct FrameRecord {
   /// World -> camera pose through the reference keyframe as it is now; a culled reference is
   /// replaced by its spanning-tree parent.
   Pose T_cw() const;
+  /// Sets T_cr so that T_cw() is `T_cw` with the reference keyframes as they are now.
+  void setT_cw(const Pose& T_cw);
 };
 
 /// Called once the frame has a pose from the keypoints outside the boxes; may re-admit or exclude
