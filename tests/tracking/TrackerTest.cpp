@@ -33,9 +33,9 @@ Vec3 centreOf(const tracking::FrameRecord& r) { return r.T_cw().inverse().transl
 using FrameEdit = std::function<tracking::RefineKeypoints(int i, data::Frame& frame)>;
 
 /// Tracks the first `frames` frames of fr1_xyz, each edited by `edit`; finishes as SlamSystem
-/// does (`interpolate_again`: the last step of it).
+/// does (`interpolate_again`, `extrapolate_again`: its last two steps).
 std::vector<FrameOutcome> trackEdited(const SlamConfig& config, int frames, const FrameEdit& edit,
-                                      bool interpolate_again = true) {
+                                      bool interpolate_again = true, bool extrapolate_again = true) {
   const camera::PinholeCamera camera(config.camera);
   const feature::OrbExtractor extractor(config.orb);
   data::Map map;
@@ -64,6 +64,7 @@ std::vector<FrameOutcome> trackEdited(const SlamConfig& config, int frames, cons
   // As SlamSystem::finish.
   if (config.tracking.pose_check_m > 0) tracker.checkPosesAgainstMap();
   if (interpolate_again) tracker.interpolateAgainInFinalMap();
+  if (extrapolate_again) tracker.extrapolateEndAgainInFinalMap();
   for (const auto& rec : tracker.records()) {
     for (auto& o : out) {
       if (o.timestamp == rec.timestamp) o.saved = centreOf(rec), o.in_trajectory = true;
@@ -311,6 +312,52 @@ TEST(Tracker, BridgedFramesAreInterpolatedAgainBetweenTheFinalPosesEitherSide) {
   // the last, 0.20 m summed over the 7; again: 0.043 m summed).
   EXPECT_GT(error(once, kTo - 1), 0.03);
   EXPECT_LT(error_again, 0.6 * error_once) << "again " << error_again << " m, once " << error_once << " m";
+}
+
+TEST(Tracker, FramesBridgedAtTheEndMoveOnByTheMedianOfTheLastStepsNotByTheLastOne) {
+  TKGSLAM_REQUIRE_SHARED();
+  // The last tracked frame is tracked 5 cm off, and the run ends on 8 covered frames: bridged with
+  // the 5 cm per frame that its step gives, and no tracked frame after them to interpolate towards.
+  constexpr int kFrames = 56, kWrong = 47;
+  const auto run = [&](bool extrapolate_again) {
+    SlamConfig config = fr1Config();
+    config.deterministic = true;
+    config.tracking.covered_ratio = 0.9;
+    return trackEdited(
+        config, kFrames,
+        [&](int i, data::Frame& frame) {
+          tracking::RefineKeypoints move_off;
+          if (i > kWrong) {
+            std::fill(frame.features->excluded.begin(), frame.features->excluded.end(), 1);
+            frame.box_cover = 1.0;
+          } else if (i == kWrong) {
+            move_off = [](data::Frame& f, const std::vector<std::shared_ptr<data::KeyFrame>>&) {
+              f.T_cw = Pose(Eigen::Translation3d(0.05, 0, 0)) * f.T_cw;
+              return 0;
+            };
+          }
+          return move_off;
+        },
+        true, extrapolate_again);
+  };
+  const auto clear = trackWithCover(0.9, kFrames, kFrames, kFrames);
+  const auto again = run(true);
+  const auto once = run(false);
+  const auto error = [&](const std::vector<FrameOutcome>& o, int i) { return (o[i].saved - clear[i].saved).norm(); };
+  ASSERT_TRUE(again[kWrong].tracked && !again[kWrong].predicted);
+  // (The frames before it keep their poses.)
+  for (int i = 0; i <= kWrong; ++i) EXPECT_EQ(again[i].saved, once[i].saved) << i;
+  double error_again = 0, error_once = 0;
+  for (int i = kWrong + 1; i < kFrames; ++i) {
+    ASSERT_TRUE(again[i].predicted && again[i].in_trajectory) << i;
+    EXPECT_LT(error(again, i), 0.03) << i;
+    error_again += error(again, i);
+    error_once += error(once, i);
+  }
+  // Moved on by the last step, the last frame ends 0.46 m off and the 8 sum to 2.27 m; moved on by
+  // the median of the last 5 steps, 0.021 m and 0.11 m (measured).
+  EXPECT_GT(error(once, kFrames - 1), 0.3);
+  EXPECT_LT(error_again, 0.1 * error_once) << "again " << error_again << " m, once " << error_once << " m";
 }
 
 TEST(Tracker, FramesOnlyReadmittedKeypointsTrackNeedMoreInliersAndMakeNoKeyframes) {

@@ -271,6 +271,7 @@ std::vector<FrameOutcome> SlamSystem::finish() {
   mapping_thread_->drain();
   if (config_.tracking.pose_check_m > 0) tracker_->checkPosesAgainstMap();
   tracker_->interpolateAgainInFinalMap();
+  tracker_->extrapolateEndAgainInFinalMap();
   return out;
 }
 

@@ -71,6 +71,8 @@ struct FrameRecord {
   /// motion-blurred image (smeared keypoints). Once tracking resumes on a later frame it is
   /// replaced by the pose interpolated between the frames tracked either side.
   bool provisional = false;
+  /// The pose is the motion model's prediction (a bridged frame), not tracked.
+  bool predicted = false;
   /// The pose was interpolated between the tracked records either side (the ones next to this
   /// frame's run of interpolated records); Tracker::interpolateAgainInFinalMap redoes it at the end.
   bool interpolated = false;
@@ -125,6 +127,12 @@ class Tracker {
   /// interpolated record follows only its own reference keyframe. Call at the end of a run, after
   /// checkPosesAgainstMap. Returns the records posed again. Takes the map lock.
   int interpolateAgainInFinalMap();
+  /// Poses the predicted records at the end of the run again (bridged after the last tracked
+  /// frame, so no later one interpolates them): the final pose of the last tracked record moved on
+  /// by the median per-frame step of the kEndSteps steps before it, not by the velocity of its own
+  /// last step. Records tracked on blurred images there keep their poses. Call after
+  /// interpolateAgainInFinalMap. Returns the records posed again. Takes the map lock.
+  int extrapolateEndAgainInFinalMap();
   /// The most recent frame (features, matches, pose) - for diagnostics.
   const data::Frame* lastFrame() const { return last_frame_.get(); }
 
@@ -137,6 +145,7 @@ class Tracker {
   static constexpr int kAnchorMinInliers = 40;
   /// Records whose matches are kept for the pose check (30 s at 30 Hz; ~8 kB each).
   static constexpr size_t kPoseCheckWindow = 900;
+  static constexpr size_t kEndSteps = 5;  ///< steps whose median moves the records at the end
   static constexpr size_t kSharpnessWindow = 15;  ///< sharp frames whose median sharpness is the yardstick
 
   bool canInitialize(const data::Frame& frame) const;
