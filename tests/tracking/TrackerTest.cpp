@@ -97,6 +97,36 @@ std::vector<FrameOutcome> trackWithCover(double covered_ratio, int frames, int c
   });
 }
 
+/// A geometry check that moves the tracked pose 5 cm along the camera's x axis: a frame tracked wrong.
+tracking::RefineKeypoints moveOff5cm() {
+  return [](data::Frame& f, const std::vector<std::shared_ptr<data::KeyFrame>>&) {
+    f.T_cw = Pose(Eigen::Translation3d(0.05, 0, 0)) * f.T_cw;
+    return 0;
+  };
+}
+
+/// Tracks the first `frames` frames (covered_ratio 0.9): those in [cover_from, cover_to) covered by a
+/// person, frame `moved_off` tracked 5 cm off; the finishing steps as in trackEdited.
+std::vector<FrameOutcome> trackCoveredAndMovedOff(int frames, int cover_from, int cover_to, int moved_off,
+                                                  bool interpolate_again, bool extrapolate_again) {
+  SlamConfig config = fr1Config();
+  config.deterministic = true;
+  config.tracking.covered_ratio = 0.9;
+  return trackEdited(
+      config, frames,
+      [&](int i, data::Frame& frame) {
+        tracking::RefineKeypoints move_off;
+        if (i >= cover_from && i < cover_to) {
+          std::fill(frame.features->excluded.begin(), frame.features->excluded.end(), 1);
+          frame.box_cover = 1.0;
+        } else if (i == moved_off) {
+          move_off = moveOff5cm();
+        }
+        return move_off;
+      },
+      interpolate_again, extrapolate_again);
+}
+
 TEST(Tracker, FramesAPersonFillsAreBridgedAsLongAsBlurredOnesNearWhereTheCameraWas) {
   TKGSLAM_REQUIRE_SHARED();
   constexpr int kFrames = 70, kFrom = 40, kTo = 47;  // 7 covered frames: more than max_predicted_frames
@@ -243,14 +273,7 @@ TEST(Tracker, AFrameTrackedWrongGetsThePoseItsMatchesGiveInTheFinalMap) {
     config.deterministic = true;
     config.tracking.pose_check_m = pose_check_m;
     return trackEdited(config, kFrames, [&](int i, data::Frame&) {
-      tracking::RefineKeypoints move_off;
-      if (i == kWrong) {
-        move_off = [](data::Frame& f, const std::vector<std::shared_ptr<data::KeyFrame>>&) {
-          f.T_cw = Pose(Eigen::Translation3d(0.05, 0, 0)) * f.T_cw;  // 5 cm along the camera's x axis
-          return 0;
-        };
-      }
-      return move_off;
+      return i == kWrong ? moveOff5cm() : tracking::RefineKeypoints{};
     });
   };
   const auto clear = trackWithCover(0.9, kFrames, kFrames, kFrames);
@@ -272,30 +295,9 @@ TEST(Tracker, BridgedFramesAreInterpolatedAgainBetweenTheFinalPosesEitherSide) {
   // interpolated towards a wrong pose. That frame becomes a keyframe, which local BA puts right
   // (measured: 2.3 mm off at the end), and the bridged frames are interpolated again towards it.
   constexpr int kFrames = 70, kFrom = 40, kTo = 47;
-  const auto run = [&](bool interpolate_again) {
-    SlamConfig config = fr1Config();
-    config.deterministic = true;
-    config.tracking.covered_ratio = 0.9;
-    return trackEdited(
-        config, kFrames,
-        [&](int i, data::Frame& frame) {
-          tracking::RefineKeypoints move_off;
-          if (i >= kFrom && i < kTo) {
-            std::fill(frame.features->excluded.begin(), frame.features->excluded.end(), 1);
-            frame.box_cover = 1.0;
-          } else if (i == kTo) {
-            move_off = [](data::Frame& f, const std::vector<std::shared_ptr<data::KeyFrame>>&) {
-              f.T_cw = Pose(Eigen::Translation3d(0.05, 0, 0)) * f.T_cw;
-              return 0;
-            };
-          }
-          return move_off;
-        },
-        interpolate_again);
-  };
   const auto clear = trackWithCover(0.9, kFrames, kFrames, kFrames);
-  const auto again = run(true);
-  const auto once = run(false);
+  const auto again = trackCoveredAndMovedOff(kFrames, kFrom, kTo, kTo, true, true);
+  const auto once = trackCoveredAndMovedOff(kFrames, kFrom, kTo, kTo, false, true);
   const auto error = [&](const std::vector<FrameOutcome>& o, int i) { return (o[i].saved - clear[i].saved).norm(); };
   ASSERT_TRUE(again[kTo].tracked && !again[kTo].predicted);
   EXPECT_TRUE(again[kTo].keyframe);
@@ -319,30 +321,9 @@ TEST(Tracker, FramesBridgedAtTheEndMoveOnByTheMedianOfTheLastStepsNotByTheLastOn
   // The last tracked frame is tracked 5 cm off, and the run ends on 8 covered frames: bridged with
   // the 5 cm per frame that its step gives, and no tracked frame after them to interpolate towards.
   constexpr int kFrames = 56, kWrong = 47;
-  const auto run = [&](bool extrapolate_again) {
-    SlamConfig config = fr1Config();
-    config.deterministic = true;
-    config.tracking.covered_ratio = 0.9;
-    return trackEdited(
-        config, kFrames,
-        [&](int i, data::Frame& frame) {
-          tracking::RefineKeypoints move_off;
-          if (i > kWrong) {
-            std::fill(frame.features->excluded.begin(), frame.features->excluded.end(), 1);
-            frame.box_cover = 1.0;
-          } else if (i == kWrong) {
-            move_off = [](data::Frame& f, const std::vector<std::shared_ptr<data::KeyFrame>>&) {
-              f.T_cw = Pose(Eigen::Translation3d(0.05, 0, 0)) * f.T_cw;
-              return 0;
-            };
-          }
-          return move_off;
-        },
-        true, extrapolate_again);
-  };
   const auto clear = trackWithCover(0.9, kFrames, kFrames, kFrames);
-  const auto again = run(true);
-  const auto once = run(false);
+  const auto again = trackCoveredAndMovedOff(kFrames, kWrong + 1, kFrames, kWrong, true, true);
+  const auto once = trackCoveredAndMovedOff(kFrames, kWrong + 1, kFrames, kWrong, true, false);
   const auto error = [&](const std::vector<FrameOutcome>& o, int i) { return (o[i].saved - clear[i].saved).norm(); };
   ASSERT_TRUE(again[kWrong].tracked && !again[kWrong].predicted);
   // (The frames before it keep their poses.)
