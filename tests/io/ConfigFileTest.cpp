@@ -187,6 +187,8 @@ TEST(ConfigFile, InvalidValuesAreClearErrors) {
     EXPECT_DOUBLE_EQ(c.dynamic.object.focal_px, c.camera.fy);
   }
   EXPECT_NE(errorOf(std::string(kMinimal) + "tracking: {max_jump_deg: .nan}").find("must be finite"), std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "tracking: {excursion_m: -0.01}").find("excursion_m must be >= 0"),
+            std::string::npos);
   EXPECT_NE(errorOf(std::string(kMinimal) + "tracking: {covered_ratio: 0}").find("covered_ratio must be > 0"),
             std::string::npos);
   EXPECT_THROW(io::loadConfig("/nonexistent.yaml"), InputError);

@@ -146,6 +146,7 @@ void forEachKey(Config& c, Visit&& key) {
   key("tracking", "covered_ratio", tr.covered_ratio, false);
   key("tracking", "min_rescued_inliers", tr.min_rescued_inliers, false);
   key("tracking", "pose_check_m", tr.pose_check_m, false);
+  key("tracking", "excursion_m", tr.excursion_m, false);
   key("mapping", "local_ba_iterations", c.mapping.local_ba_iterations, false);
   key("mapping", "covisible_keyframes", c.mapping.covisible_keyframes, false);
   key("mapping", "keyframe_redundancy", c.mapping.keyframe_redundancy, false);
@@ -321,6 +322,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
   require(c.tracking.covered_ratio > 0, source, "tracking.covered_ratio must be > 0 (> 1 = off)");
   require(c.tracking.min_rescued_inliers >= 0, source, "tracking.min_rescued_inliers must be >= 0 (0 = off)");
   require(c.tracking.pose_check_m >= 0, source, "tracking.pose_check_m must be >= 0 (0 = off)");
+  require(c.tracking.excursion_m >= 0, source, "tracking.excursion_m must be >= 0 (0 = off)");
   require(c.mapping.local_ba_iterations >= 0, source, "mapping.local_ba_iterations must be >= 0");
   require(c.mapping.covisible_keyframes >= 1, source, "mapping.covisible_keyframes must be >= 1");
   require(c.mapping.keyframe_redundancy > 0 && c.mapping.keyframe_redundancy <= 1, source,

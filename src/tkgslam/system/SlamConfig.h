@@ -55,6 +55,11 @@ struct TrackingParams {
   /// tracked wrong, e.g. on a person the detector missed, and bundle adjustment later corrected the
   /// points but not the keyframe the frame is stored against - that pose replaces it. 0 = off.
   double pose_check_m = 0.02;
+  /// Last, a run of at most Tracker::kExcursionFrames frames whose camera centres are all further
+  /// than this (metres) from the straight line between the frames either side - out and back within
+  /// a tenth of a second, more than a hand-held camera moves - gets poses interpolated between those
+  /// two. 0 = off.
+  double excursion_m = 0.03;
 };
 
 struct MappingParams {

@@ -272,6 +272,7 @@ std::vector<FrameOutcome> SlamSystem::finish() {
   if (config_.tracking.pose_check_m > 0) tracker_->checkPosesAgainstMap();
   tracker_->interpolateAgainInFinalMap();
   tracker_->extrapolateEndAgainInFinalMap();
+  if (config_.tracking.excursion_m > 0) tracker_->interpolateExcursions();
   return out;
 }
 

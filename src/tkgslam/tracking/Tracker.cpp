@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <mutex>
 
@@ -541,6 +542,64 @@ int Tracker::extrapolateEndAgainInFinalMap() {
     r.setT_cw(orthonormalized(T));
     ++posed;
   }
+  return posed;
+}
+
+int Tracker::interpolateExcursions() {
+  std::lock_guard<std::mutex> lock(map_.mutex());
+  const size_t n = records_.size();
+  std::vector<Pose> T(n);
+  std::vector<bool> usable(n);
+  for (size_t k = 0; k < n; ++k) {
+    usable[k] = records_[k].reference != nullptr;
+    if (usable[k]) T[k] = records_[k].T_cw();
+  }
+  const auto centre = [&](size_t k) -> Vec3 { return T[k].inverse().translation(); };
+  // The run [i, i + w) between records i - 1 and i + w: how far its least-off record is from the
+  // interpolation between them (0 = no excursion there). Not across a gap in the input.
+  const auto offBy = [&](size_t i, size_t w) {
+    if (i == 0 || i + w >= n) return 0.0;
+    const size_t a = i - 1, b = i + w;
+    const double t_a = records_[a].timestamp, t_b = records_[b].timestamp;
+    if (!usable[a] || !usable[b] || !(t_b > t_a) || t_b - t_a > 1.5 * double(w + 1) / cfg_.camera.fps) return 0.0;
+    double least = std::numeric_limits<double>::infinity();
+    for (size_t k = i; k < b; ++k) {
+      if (!usable[k]) return 0.0;
+      const Vec3 on_line = centre(a) + (records_[k].timestamp - t_a) / (t_b - t_a) * (centre(b) - centre(a));
+      least = std::min(least, (centre(k) - on_line).norm());
+    }
+    return least;
+  };
+  // off[w - 1][i]: offBy(i, w), recomputed near each replaced run. The furthest run goes first: a
+  // record next to an excursion is itself off the line through its neighbours.
+  std::vector<std::vector<double>> off(kExcursionFrames, std::vector<double>(n));
+  const auto update = [&](size_t from, size_t to) {
+    for (size_t w = 1; w <= kExcursionFrames; ++w) {
+      for (size_t i = from; i < std::min(to, n); ++i) off[w - 1][i] = offBy(i, w);
+    }
+  };
+  update(0, n);
+  int posed = 0;
+  for (size_t round = 0; round < n; ++round) {  // (each round poses at least one record again)
+    size_t best_i = 0, best_w = 0;
+    double best = cfg_.tracking.excursion_m;
+    for (size_t w = 1; w <= kExcursionFrames; ++w) {
+      for (size_t i = 0; i < n; ++i) {
+        if (off[w - 1][i] > best) best = off[w - 1][i], best_i = i, best_w = w;
+      }
+    }
+    if (best_w == 0) break;
+    const size_t a = best_i - 1, b = best_i + best_w;
+    const double t_a = records_[a].timestamp, t_b = records_[b].timestamp;
+    for (size_t k = best_i; k < b; ++k) {
+      T[k] = interpolatePose(T[a], T[b], (records_[k].timestamp - t_a) / (t_b - t_a));
+      records_[k].setT_cw(T[k]);
+      records_[k].interpolated = true;
+      ++posed;
+    }
+    update(best_i > kExcursionFrames ? best_i - kExcursionFrames : 0, b + 1);
+  }
+  if (posed > 0) spdlog::info("excursion check: {} frame pose(s) interpolated between the frames either side", posed);
   return posed;
 }
 

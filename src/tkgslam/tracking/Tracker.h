@@ -133,6 +133,11 @@ class Tracker {
   /// last step. Records tracked on blurred images there keep their poses. Call after
   /// interpolateAgainInFinalMap. Returns the records posed again. Takes the map lock.
   int extrapolateEndAgainInFinalMap();
+  /// Interpolates excursions (TrackingParams::excursion_m): runs of at most kExcursionFrames records
+  /// whose camera centres are all further than that from the interpolation between the records
+  /// either side, the furthest run first. Call last at the end of a run. Returns the records posed
+  /// again. Takes the map lock.
+  int interpolateExcursions();
   /// The most recent frame (features, matches, pose) - for diagnostics.
   const data::Frame* lastFrame() const { return last_frame_.get(); }
 
@@ -146,6 +151,7 @@ class Tracker {
   /// Records whose matches are kept for the pose check (30 s at 30 Hz; ~8 kB each).
   static constexpr size_t kPoseCheckWindow = 900;
   static constexpr size_t kEndSteps = 5;  ///< steps whose median moves the records at the end
+  static constexpr size_t kExcursionFrames = 3;  ///< longest run of records interpolateExcursions replaces
   static constexpr size_t kSharpnessWindow = 15;  ///< sharp frames whose median sharpness is the yardstick
 
   bool canInitialize(const data::Frame& frame) const;
