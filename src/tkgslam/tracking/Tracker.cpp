@@ -549,12 +549,12 @@ int Tracker::interpolateExcursions() {
   std::lock_guard<std::mutex> lock(map_.mutex());
   const size_t n = records_.size();
   std::vector<Pose> T(n);
+  std::vector<Vec3> centre(n);  // camera centres (world, metres), kept with T
   std::vector<bool> usable(n);
   for (size_t k = 0; k < n; ++k) {
     usable[k] = records_[k].reference != nullptr;
-    if (usable[k]) T[k] = records_[k].T_cw();
+    if (usable[k]) T[k] = records_[k].T_cw(), centre[k] = T[k].inverse().translation();
   }
-  const auto centre = [&](size_t k) -> Vec3 { return T[k].inverse().translation(); };
   // The run [i, i + w) between records i - 1 and i + w: how far its least-off record is from the
   // interpolation between them (0 = no excursion there). Not across a gap in the input.
   const auto offBy = [&](size_t i, size_t w) {
@@ -565,8 +565,8 @@ int Tracker::interpolateExcursions() {
     double least = std::numeric_limits<double>::infinity();
     for (size_t k = i; k < b; ++k) {
       if (!usable[k]) return 0.0;
-      const Vec3 on_line = centre(a) + (records_[k].timestamp - t_a) / (t_b - t_a) * (centre(b) - centre(a));
-      least = std::min(least, (centre(k) - on_line).norm());
+      const Vec3 on_line = centre[a] + (records_[k].timestamp - t_a) / (t_b - t_a) * (centre[b] - centre[a]);
+      least = std::min(least, (centre[k] - on_line).norm());
     }
     return least;
   };
@@ -593,6 +593,7 @@ int Tracker::interpolateExcursions() {
     const double t_a = records_[a].timestamp, t_b = records_[b].timestamp;
     for (size_t k = best_i; k < b; ++k) {
       T[k] = interpolatePose(T[a], T[b], (records_[k].timestamp - t_a) / (t_b - t_a));
+      centre[k] = T[k].inverse().translation();
       records_[k].setT_cw(T[k]);
       records_[k].interpolated = true;
       ++posed;
