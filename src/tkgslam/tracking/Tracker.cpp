@@ -553,7 +553,9 @@ int Tracker::interpolateExcursions() {
   std::vector<bool> usable(n);
   for (size_t k = 0; k < n; ++k) {
     usable[k] = records_[k].reference != nullptr;
-    if (usable[k]) T[k] = records_[k].T_cw(), centre[k] = T[k].inverse().translation();
+    if (!usable[k]) continue;
+    T[k] = records_[k].T_cw();
+    centre[k] = T[k].inverse().translation();
   }
   // The run [i, i + w) between records i - 1 and i + w: how far its least-off record is from the
   // interpolation between them (0 = no excursion there). Not across a gap in the input.
