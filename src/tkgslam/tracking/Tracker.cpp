@@ -587,7 +587,10 @@ int Tracker::interpolateExcursions() {
     double best = cfg_.tracking.excursion_m;
     for (size_t w = 1; w <= kExcursionFrames; ++w) {
       for (size_t i = 0; i < n; ++i) {
-        if (off[w - 1][i] > best) best = off[w - 1][i], best_i = i, best_w = w;
+        if (!(off[w - 1][i] > best)) continue;
+        best = off[w - 1][i];
+        best_i = i;
+        best_w = w;
       }
     }
     if (best_w == 0) break;
