@@ -68,7 +68,9 @@ std::vector<FrameOutcome> trackEdited(const SlamConfig& config, int frames, cons
   if (config.tracking.excursion_m > 0) tracker.interpolateExcursions();
   for (const auto& rec : tracker.records()) {
     for (auto& o : out) {
-      if (o.timestamp == rec.timestamp) o.saved = centreOf(rec), o.in_trajectory = true;
+      if (o.timestamp != rec.timestamp) continue;
+      o.saved = centreOf(rec);
+      o.in_trajectory = true;
     }
   }
   return out;

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <map>
 #include <mutex>
 
@@ -11,6 +10,7 @@
 
 #include "tkgslam/common/Elapsed.h"
 #include "tkgslam/optimize/FramePose.h"
+#include "tkgslam/tracking/TrajectoryRepair.h"
 
 namespace tkgslam::tracking {
 
@@ -22,21 +22,6 @@ Tracker::Tracker(data::Map& map, const camera::PinholeCamera& camera, const feat
                  const SlamConfig& config)
     : map_(map), cam_(camera), pyr_(pyramid), cfg_(config), matcher_(camera, pyramid, config.depth.baseline_fx),
       K_(optimize::intrinsicsOf(camera.fx(), camera.fy(), camera.cx(), camera.cy(), config.depth.baseline_fx)) {}
-
-Pose FrameRecord::T_cw() const {
-  const data::KeyFrame* kf = reference.get();
-  Pose T = T_cr;
-  while (kf->bad && kf->parent) {
-    T = T * kf->T_c_parent;
-    kf = kf->parent;
-  }
-  return T * kf->T_cw();
-}
-
-void FrameRecord::setT_cw(const Pose& T) {
-  const Pose through_reference = T_cr.inverse() * T_cw();  // T_cw() = T_cr * through_reference
-  T_cr = orthonormalized(T * through_reference.inverse());
-}
 
 TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, const RefineKeypoints& refine) {
   std::lock_guard<std::mutex> lock(map_.mutex());
@@ -52,10 +37,24 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     return result;
   }
 
-  bool ok = false;
-  bool rescued = false;
   // A velocity needs two consecutive tracked frames (not one across a relocalisation gap).
   const bool after_loss = state_ == TrackingState::Lost;
+  bool rescued = false;
+  bool ok = estimatePose(frame, refine, &rescued);
+  if (ok && jumpedFromMotionModel(frame)) {
+    ok = false;
+    result.jump_rejected = true;
+  }
+  if (ok) {
+    keepTrackedFrame(std::move(frame), after_loss, rescued, mapper_idle, mapper_queue, result);
+  } else if (!bridgeFrame(frame, result)) {
+    loseFrame(frame, result);
+  }
+  return result;
+}
+
+bool Tracker::estimatePose(Frame& frame, const RefineKeypoints& refine, bool* rescued) {
+  bool ok = false;
   if (state_ == TrackingState::Ok) {
     // Replace points fused by local mapping since the last frame.
     for (auto& mp : last_frame_->map_points) {
@@ -93,103 +92,104 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
         // Only the re-admitted keypoints track this frame, and the check re-admitted them using the
         // predicted pose: no independent support. Such poses drifted 2-9 cm per frame on the
         // extreme composites, and keyframes made from them passed the error on to the next.
-        rescued = true;
+        *rescued = true;
         ok = matches_inliers_ >= cfg_.tracking.min_rescued_inliers;
         spdlog::debug("frame {}: tracked only by re-admitted keypoints, {} inliers (need {})", frame.id,
                       matches_inliers_, cfg_.tracking.min_rescued_inliers);
       }
     }
   }
+  return ok;
+}
 
-  // Also right after bridged frames, with a tolerance growing with their number (so does the
-  // prediction's error): a tracked pose 35 cm off after one blurred frame was taken, and its
-  // keyframe misled the frames after it (high_shake composite, object mask: 0.0202 -> 0.0124 m).
-  // Not across a gap in the input (frames missing from the log): the camera may be anywhere.
+// Also right after bridged frames, with a tolerance growing with their number (so does the
+// prediction's error): a tracked pose 35 cm off after one blurred frame was taken, and its
+// keyframe misled the frames after it (high_shake composite, object mask: 0.0202 -> 0.0124 m).
+// Not across a gap in the input (frames missing from the log): the camera may be anywhere.
+bool Tracker::jumpedFromMotionModel(const Frame& frame) const {
   const int since_last = gap_frames_ + 1;  // frame periods since the last tracked frame
-  if (ok && has_velocity_ && frame.id > last_reloc_frame_ + 1 &&
-      frame.timestamp - last_frame_->timestamp < (since_last + 1.0) / cfg_.camera.fps &&
-      poseJumped(frame.T_cw, since_last)) {
-    ok = false;
-    result.jump_rejected = true;
-  }
+  return has_velocity_ && frame.id > last_reloc_frame_ + 1 &&
+         frame.timestamp - last_frame_->timestamp < (since_last + 1.0) / cfg_.camera.fps &&
+         poseJumped(frame.T_cw, since_last);
+}
 
-  // Blurred frames (and covered ones) get bridged for longer than sharp ones: they are expected to fail.
-  const int max_gap = 3 * cfg_.tracking.max_predicted_frames;
-  if (ok) {
-    state_ = TrackingState::Ok;
-    const int lost_frames = lost_frames_;
-    lost_frames_ = 0;
-    // Temporary visual-odometry points are not map points; forget them.
-    for (int i = 0; i < frame.size(); ++i) {
-      if (frame.map_points[i] && frame.map_points[i]->observations.empty()) {
-        frame.map_points[i].reset();
-        frame.outlier[i] = 0;
-      }
+void Tracker::keepTrackedFrame(Frame&& frame, bool after_loss, bool rescued, bool mapper_idle, int mapper_queue,
+                               TrackResult& result) {
+  state_ = TrackingState::Ok;
+  const int lost_frames = lost_frames_;
+  lost_frames_ = 0;
+  // Temporary visual-odometry points are not map points; forget them.
+  for (int i = 0; i < frame.size(); ++i) {
+    if (frame.map_points[i] && frame.map_points[i]->observations.empty()) {
+      frame.map_points[i].reset();
+      frame.outlier[i] = 0;
     }
-    temporal_points_.clear();
-    if (result.blurred && !after_loss && gap_frames_ < max_gap) {
-      // Tracked, but a blurred image is a poor keyframe and a poor frame to match the next one
-      // against: the frame is not kept, and its pose only until the next sharp frame is tracked
-      // (high_shake composite: T 0.0150 -> 0.0126 m, TKG 0.0172 -> 0.0137 m with them interpolated).
-      ++gap_frames_;
-      records_.push_back({frame.timestamp, reference_kf_, frame.T_cw * reference_kf_->T_wc(), true});
-      result.tracked = true;
-      result.inliers = matches_inliers_;
-      return result;
-    }
-    // After bridged frames the step spans several frames: the velocity is its per-frame share.
-    // (No last frame: the first frame of a run in a loaded map.)
-    if (last_frame_) velocity_ = orthonormalized(poseRoot(frame.T_cw * last_frame_->T_cw.inverse(), gap_frames_ + 1));
-    has_velocity_ = !after_loss;
-    if (spdlog::should_log(spdlog::level::debug)) {  // (not worth an acos per frame otherwise)
-      spdlog::debug("frame {}: velocity {:.3f} m / {:.2f} deg per frame (over {} frames)", frame.id,
-                    velocity_.translation().norm(), rotationAngle(velocity_.linear()) * 180.0 / M_PI, gap_frames_ + 1);
-    }
-    const int gap = gap_frames_;
-    gap_frames_ = 0;
-    predicted_frames_ = 0;
-    // (A blurred frame gets here after a long run of them: it becomes the frame to match against,
-    // but still no keyframe.)
-    // (Nor a frame tracked only by re-admitted keypoints: see above.)
-    if (!localization_only_ && !result.blurred && !rescued && needNewKeyFrame(frame, mapper_idle, mapper_queue)) {
-      result.new_keyframe = createKeyFrame(frame);
-    }
-    if (result.new_keyframe && !anchor_candidates_.empty()) {
-      result.reanchored = reanchorSegment(frame, result.interpolated_lost);
-    }
-    for (int i = 0; i < frame.size(); ++i) {
-      if (frame.outlier[i]) frame.map_points[i].reset();
-    }
-    if (!frame.reference) frame.reference = reference_kf_;
-    records_.push_back({frame.timestamp, frame.reference, frame.T_cw * frame.reference->T_wc()});
-    if (cfg_.tracking.pose_check_m > 0) {
-      // (Outliers and temporary points were dropped above: what is left are the inlier map points.)
-      const auto& F = *frame.features;
-      auto& kept = records_.back().matches;
-      for (int i = 0; i < frame.size(); ++i) {
-        if (!frame.map_points[i]) continue;
-        kept.push_back({frame.map_points[i], F.ideal[i].pt.x, F.ideal[i].pt.y, F.u_right[i], F.ideal[i].octave});
-      }
-      if (records_.size() > kPoseCheckWindow) checkRecordPose(records_[records_.size() - 1 - kPoseCheckWindow]);
-    }
-    // Also when relocalised soon after a loss: frames bridged before it still hold the motion
-    // model's extrapolation, which drifts with every frame (extreme_s32 composite: 26 cm after 10),
-    // and the lost frames themselves - at most relocalization_attempts of them - get their poses
-    // the same way (people filling the view for half a second: 9 bridged + 5 lost frames).
-    const bool soon_after_loss = after_loss && lost_frames <= cfg_.tracking.relocalization_attempts;
-    // (lost_timestamps_ is empty unless soon after a loss: it keeps no more than that many.)
-    if ((gap > 0 || soon_after_loss) && interpolateBridgedRecords(lost_timestamps_)) {
-      result.interpolated_lost.insert(result.interpolated_lost.end(), lost_timestamps_.begin(), lost_timestamps_.end());
-    }
-    lost_timestamps_.clear();
+  }
+  temporal_points_.clear();
+  if (result.blurred && !after_loss && gap_frames_ < maxGapFrames()) {
+    // Tracked, but a blurred image is a poor keyframe and a poor frame to match the next one
+    // against: the frame is not kept, and its pose only until the next sharp frame is tracked
+    // (high_shake composite: T 0.0150 -> 0.0126 m, TKG 0.0172 -> 0.0137 m with them interpolated).
+    ++gap_frames_;
+    records_.push_back({frame.timestamp, reference_kf_, frame.T_cw * reference_kf_->T_wc(), true});
     result.tracked = true;
     result.inliers = matches_inliers_;
-    last_frame_ = std::make_unique<Frame>(std::move(frame));
-    return result;
+    return;
   }
+  // After bridged frames the step spans several frames: the velocity is its per-frame share.
+  // (No last frame: the first frame of a run in a loaded map.)
+  if (last_frame_) velocity_ = orthonormalized(poseRoot(frame.T_cw * last_frame_->T_cw.inverse(), gap_frames_ + 1));
+  has_velocity_ = !after_loss;
+  if (spdlog::should_log(spdlog::level::debug)) {  // (not worth an acos per frame otherwise)
+    spdlog::debug("frame {}: velocity {:.3f} m / {:.2f} deg per frame (over {} frames)", frame.id,
+                  velocity_.translation().norm(), rotationAngle(velocity_.linear()) * 180.0 / M_PI, gap_frames_ + 1);
+  }
+  const int gap = gap_frames_;
+  gap_frames_ = 0;
+  predicted_frames_ = 0;
+  // (A blurred frame gets here after a long run of them: it becomes the frame to match against,
+  // but still no keyframe.)
+  // (Nor a frame tracked only by re-admitted keypoints: see above.)
+  if (!localization_only_ && !result.blurred && !rescued && needNewKeyFrame(frame, mapper_idle, mapper_queue)) {
+    result.new_keyframe = createKeyFrame(frame);
+  }
+  if (result.new_keyframe && !anchor_candidates_.empty()) {
+    result.reanchored = reanchorSegment(frame, result.interpolated_lost);
+  }
+  for (int i = 0; i < frame.size(); ++i) {
+    if (frame.outlier[i]) frame.map_points[i].reset();
+  }
+  if (!frame.reference) frame.reference = reference_kf_;
+  records_.push_back({frame.timestamp, frame.reference, frame.T_cw * frame.reference->T_wc()});
+  if (cfg_.tracking.pose_check_m > 0) {
+    // (Outliers and temporary points were dropped above: what is left are the inlier map points.)
+    const auto& F = *frame.features;
+    auto& kept = records_.back().matches;
+    for (int i = 0; i < frame.size(); ++i) {
+      if (!frame.map_points[i]) continue;
+      kept.push_back({frame.map_points[i], F.ideal[i].pt.x, F.ideal[i].pt.y, F.u_right[i], F.ideal[i].octave});
+    }
+    if (records_.size() > kPoseCheckWindow) checkRecordPose(records_[records_.size() - 1 - kPoseCheckWindow]);
+  }
+  // Also when relocalised soon after a loss: frames bridged before it still hold the motion
+  // model's extrapolation, which drifts with every frame (extreme_s32 composite: 26 cm after 10),
+  // and the lost frames themselves - at most relocalization_attempts of them - get their poses
+  // the same way (people filling the view for half a second: 9 bridged + 5 lost frames).
+  const bool soon_after_loss = after_loss && lost_frames <= cfg_.tracking.relocalization_attempts;
+  // (lost_timestamps_ is empty unless soon after a loss: it keeps no more than that many.)
+  if ((gap > 0 || soon_after_loss) && interpolateBridgedRecords(lost_timestamps_)) {
+    result.interpolated_lost.insert(result.interpolated_lost.end(), lost_timestamps_.begin(), lost_timestamps_.end());
+  }
+  lost_timestamps_.clear();
+  result.tracked = true;
+  result.inliers = matches_inliers_;
+  last_frame_ = std::make_unique<Frame>(std::move(frame));
+}
 
+bool Tracker::bridgeFrame(Frame& frame, TrackResult& result) {
   const bool expected_to_fail = result.blurred || result.covered;
-  const bool bridge = expected_to_fail ? gap_frames_ < max_gap : predicted_frames_ < cfg_.tracking.max_predicted_frames;
+  const bool bridge =
+      expected_to_fail ? gap_frames_ < maxGapFrames() : predicted_frames_ < cfg_.tracking.max_predicted_frames;
   // Right after a map start or a relocalisation there is no velocity yet; a blurred frame then
   // keeps the last pose rather than losing the map.
   if (state_ == TrackingState::Ok && (has_velocity_ || result.blurred) && bridge) {
@@ -204,8 +204,12 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
     records_.back().predicted = true;
     result.tracked = true;
     result.predicted = true;
-    return result;
+    return true;
   }
+  return false;
+}
+
+void Tracker::loseFrame(Frame& frame, TrackResult& result) {
   state_ = TrackingState::Lost;
   has_velocity_ = false;
   predicted_frames_ = 0;
@@ -255,7 +259,6 @@ TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, cons
       }
     }
   }
-  return result;
 }
 
 bool Tracker::canInitialize(const Frame& frame) const {
@@ -431,180 +434,23 @@ Pose Tracker::predictPose() const {
 
 bool Tracker::interpolateBridgedRecords(const std::vector<double>& lost) {
   if (!last_frame_) return false;  // (the first frame in a loaded map)
-  return interpolateRecordsBefore(records_.size() - 1, last_frame_->timestamp, lost);
-}
-
-bool Tracker::interpolateRecordsBefore(size_t end, double last_tracked, const std::vector<double>& lost) {
-  // The records since the last tracked frame are the provisional ones before records_[end]: every
-  // frame posed in between (bridged or blurred) added one. Lost frames have none; they get theirs here.
-  if (end >= records_.size()) return false;
-  size_t gap = 0;
-  while (gap < end && records_[end - 1 - gap].provisional) ++gap;
-  if ((gap == 0 && lost.empty()) || gap == end) return false;  // nothing to fill, or no tracked record before it
-  const FrameRecord& a = records_[end - gap - 1];
-  const FrameRecord& b = records_[end];
-  if (a.timestamp != last_tracked || !(b.timestamp > a.timestamp)) return false;
-  const auto usable = [](const FrameRecord& r) { return r.reference && !r.reference->bad; };
-  if (!usable(a) || !usable(b)) return false;
-  const Pose T_a = a.T_cw(), T_b = b.T_cw();
-  const double t_a = a.timestamp, t_b = b.timestamp;
-  const auto reference = b.reference;
-  // (Inserting invalidates a and b.)
-  std::vector<FrameRecord> lost_records;
-  for (double t : lost) lost_records.push_back({t, reference, Pose::Identity(), true});
-  records_.insert(records_.begin() + std::ptrdiff_t(end), lost_records.begin(), lost_records.end());
-  const size_t last = end + lost.size();
-  for (size_t k = last - gap - lost.size(); k < last; ++k) {
-    FrameRecord& r = records_[k];
-    if (!usable(r)) continue;
-    const double s = (r.timestamp - t_a) / (t_b - t_a);
-    r.T_cr = interpolatePose(T_a, T_b, s) * r.reference->T_wc();
-    r.provisional = false;
-    r.predicted = false;
-    r.interpolated = true;
-  }
-  return true;
+  return interpolateRecordsBefore(records_, records_.size() - 1, last_frame_->timestamp, lost);
 }
 
 int Tracker::interpolateAgainInFinalMap() {
   std::lock_guard<std::mutex> lock(map_.mutex());
-  int posed = 0;
-  for (size_t i = 0; i < records_.size();) {
-    if (!records_[i].interpolated) {
-      ++i;
-      continue;
-    }
-    size_t j = i;  // [i, j): a run of interpolated records
-    while (j < records_.size() && records_[j].interpolated) ++j;
-    if (i == 0 || j == records_.size()) {
-      i = j;
-      continue;
-    }
-    const FrameRecord& a = records_[i - 1];
-    const FrameRecord& b = records_[j];
-    const auto usable = [](const FrameRecord& r) { return r.reference && !r.provisional; };
-    if (usable(a) && usable(b) && b.timestamp > a.timestamp) {
-      const Pose T_a = a.T_cw(), T_b = b.T_cw();
-      for (size_t k = i; k < j; ++k) {
-        FrameRecord& r = records_[k];
-        if (!r.reference) continue;
-        r.setT_cw(interpolatePose(T_a, T_b, (r.timestamp - a.timestamp) / (b.timestamp - a.timestamp)));
-        ++posed;
-      }
-    }
-    i = j;
-  }
-  return posed;
+  return interpolateAgain(records_);
 }
 
 int Tracker::extrapolateEndAgainInFinalMap() {
   std::lock_guard<std::mutex> lock(map_.mutex());
-  // The run ended on bridged frames: no tracked frame after them to interpolate towards, and the
-  // motion model moved them on by the velocity of the last tracked frame's own step.
-  size_t last = records_.size();  // the last record that is not provisional
-  while (last > 0 && records_[last - 1].provisional) --last;
-  if (last == 0 || last == records_.size()) return 0;
-  --last;
-  // Per-frame steps between the non-provisional records before it, in the final map.
-  std::vector<Eigen::Matrix<double, 6, 1>> steps;
-  for (size_t k = last; k > 0 && steps.size() < kEndSteps; --k) {
-    const FrameRecord &a = records_[k - 1], &b = records_[k];
-    if (a.provisional || !a.reference || !b.reference) break;
-    const int n = std::max(1, int(std::lround((b.timestamp - a.timestamp) * cfg_.camera.fps)));
-    const Pose S = poseRoot(b.T_cw() * a.T_cw().inverse(), n);
-    const Eigen::AngleAxisd rotation(S.linear());
-    Eigen::Matrix<double, 6, 1> v;
-    v << rotation.angle() * rotation.axis(), S.translation();  // (rad, m)
-    steps.push_back(v);
-  }
-  if (steps.empty()) return 0;
-  // Each component's median: the last step alone may be far off (a frame tracked on few points
-  // just before the view was covered: 7 cm per frame, 0.67 m after 10 frames, extreme_s32 TKGt).
-  Eigen::Matrix<double, 6, 1> median;
-  for (int c = 0; c < 6; ++c) {
-    std::vector<double> x;
-    for (const auto& v : steps) x.push_back(v[c]);
-    std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
-    median[c] = x[x.size() / 2];
-  }
-  Pose step = Pose::Identity();
-  step.linear() = expSO3(median.head<3>());
-  step.translation() = median.tail<3>();
-  const FrameRecord& L = records_[last];
-  const Pose T_L = L.T_cw();
-  int posed = 0;
-  for (size_t k = last + 1; k < records_.size(); ++k) {
-    FrameRecord& r = records_[k];
-    if (!r.reference || !r.predicted) continue;  // (one tracked on a blurred image keeps that pose)
-    const int n = std::max(1, int(std::lround((r.timestamp - L.timestamp) * cfg_.camera.fps)));
-    Pose T = T_L;
-    for (int i = 0; i < n; ++i) T = step * T;
-    r.setT_cw(orthonormalized(T));
-    ++posed;
-  }
-  return posed;
+  return extrapolateEnd(records_, cfg_.camera.fps, kEndSteps);
 }
 
 int Tracker::interpolateExcursions() {
   std::lock_guard<std::mutex> lock(map_.mutex());
-  const size_t n = records_.size();
-  std::vector<Pose> T(n);
-  std::vector<Vec3> centre(n);  // camera centres (world, metres), kept with T
-  std::vector<bool> usable(n);
-  for (size_t k = 0; k < n; ++k) {
-    usable[k] = records_[k].reference != nullptr;
-    if (!usable[k]) continue;
-    T[k] = records_[k].T_cw();
-    centre[k] = T[k].inverse().translation();
-  }
-  // The run [i, i + w) between records i - 1 and i + w: how far its least-off record is from the
-  // interpolation between them (0 = no excursion there). Not across a gap in the input.
-  const auto offBy = [&](size_t i, size_t w) {
-    if (i == 0 || i + w >= n) return 0.0;
-    const size_t a = i - 1, b = i + w;
-    const double t_a = records_[a].timestamp, t_b = records_[b].timestamp;
-    if (!usable[a] || !usable[b] || !(t_b > t_a) || t_b - t_a > 1.5 * double(w + 1) / cfg_.camera.fps) return 0.0;
-    double least = std::numeric_limits<double>::infinity();
-    for (size_t k = i; k < b; ++k) {
-      if (!usable[k]) return 0.0;
-      const Vec3 on_line = centre[a] + (records_[k].timestamp - t_a) / (t_b - t_a) * (centre[b] - centre[a]);
-      least = std::min(least, (centre[k] - on_line).norm());
-    }
-    return least;
-  };
-  // off[w - 1][i]: offBy(i, w), recomputed near each replaced run. The furthest run goes first: a
-  // record next to an excursion is itself off the line through its neighbours.
-  std::vector<std::vector<double>> off(kExcursionFrames, std::vector<double>(n));
-  const auto update = [&](size_t from, size_t to) {
-    for (size_t w = 1; w <= kExcursionFrames; ++w) {
-      for (size_t i = from; i < std::min(to, n); ++i) off[w - 1][i] = offBy(i, w);
-    }
-  };
-  update(0, n);
-  int posed = 0;
-  for (size_t round = 0; round < n; ++round) {  // (each round poses at least one record again)
-    size_t best_i = 0, best_w = 0;
-    double best = cfg_.tracking.excursion_m;
-    for (size_t w = 1; w <= kExcursionFrames; ++w) {
-      for (size_t i = 0; i < n; ++i) {
-        if (!(off[w - 1][i] > best)) continue;
-        best = off[w - 1][i];
-        best_i = i;
-        best_w = w;
-      }
-    }
-    if (best_w == 0) break;
-    const size_t a = best_i - 1, b = best_i + best_w;
-    const double t_a = records_[a].timestamp, t_b = records_[b].timestamp;
-    for (size_t k = best_i; k < b; ++k) {
-      T[k] = interpolatePose(T[a], T[b], (records_[k].timestamp - t_a) / (t_b - t_a));
-      centre[k] = T[k].inverse().translation();
-      records_[k].setT_cw(T[k]);
-      records_[k].interpolated = true;
-      ++posed;
-    }
-    update(best_i > kExcursionFrames ? best_i - kExcursionFrames : 0, b + 1);
-  }
+  const int posed = tracking::interpolateExcursions(records_, cfg_.tracking.excursion_m, cfg_.camera.fps,
+                                                    kExcursionFrames);
   if (posed > 0) spdlog::info("excursion check: {} frame pose(s) interpolated between the frames either side", posed);
   return posed;
 }
@@ -941,7 +787,7 @@ void Tracker::poseFramesLostBeforeSegment(const KeyFrame& anchor, std::vector<do
   // records before this segment are in.
   if (!segment_gap_ || anchor.id < segment_gap_->previous_segment_kf) return;
   const SegmentGap& g = *segment_gap_;
-  if (!interpolateRecordsBefore(g.first_record, g.last_tracked, g.lost)) return;
+  if (!interpolateRecordsBefore(records_, g.first_record, g.last_tracked, g.lost)) return;
   spdlog::debug("{} frames lost before the segment started posed between the segments' frames", g.lost.size());
   interpolated_lost.insert(interpolated_lost.end(), g.lost.begin(), g.lost.end());
 }

@@ -19,6 +19,7 @@
 #include "tkgslam/optimize/PoseOptimizer.h"
 #include "tkgslam/place/KeyFrameDatabase.h"
 #include "tkgslam/system/SlamConfig.h"
+#include "tkgslam/tracking/FrameRecord.h"
 
 namespace tkgslam::tracking {
 
@@ -46,44 +47,6 @@ struct TrackResult {
   /// the timestamps of the frames lost in between, which now have poses interpolated between the
   /// frames tracked either side (see Tracker::track).
   std::vector<double> interpolated_lost;
-};
-
-/// One inlier match of a tracked frame, kept until its pose is checked against the map
-/// (Tracker::checkPosesAgainstMap).
-struct RecordedMatch {
-  std::weak_ptr<data::MapPoint> point;  ///< not kept alive: a point culled since no longer counts
-  float u = 0, v = 0;                   ///< ideal pixel
-  float u_right = -1;                   ///< virtual right-camera u, < 0 = none
-  int octave = 0;
-};
-
-/// A frame's pose stored relative to its reference keyframe, so that later keyframe
-/// corrections (bundle adjustment) also move the frames tracked against them.
-struct FrameRecord {
-  FrameRecord() = default;
-  FrameRecord(double t, std::shared_ptr<data::KeyFrame> ref, const Pose& T, bool is_provisional = false)
-      : timestamp(t), reference(std::move(ref)), T_cr(T), provisional(is_provisional) {}
-
-  double timestamp = 0;
-  std::shared_ptr<data::KeyFrame> reference;
-  Pose T_cr = Pose::Identity();
-  /// The pose is provisional: the motion model's prediction (a bridged frame), or tracked on a
-  /// motion-blurred image (smeared keypoints). Once tracking resumes on a later frame it is
-  /// replaced by the pose interpolated between the frames tracked either side.
-  bool provisional = false;
-  /// The pose is the motion model's prediction (a bridged frame), not tracked.
-  bool predicted = false;
-  /// The pose was interpolated between the tracked records either side (the ones next to this
-  /// frame's run of interpolated records); Tracker::interpolateAgainInFinalMap redoes it at the end.
-  bool interpolated = false;
-  /// A tracked frame's inlier matches, until its pose has been checked (TrackingParams::pose_check_m).
-  std::vector<RecordedMatch> matches;
-
-  /// World -> camera pose through the reference keyframe as it is now; a culled reference is
-  /// replaced by its spanning-tree parent.
-  Pose T_cw() const;
-  /// Sets T_cr so that T_cw() is `T_cw` with the reference keyframes as they are now.
-  void setT_cw(const Pose& T_cw);
 };
 
 /// Called once the frame has a pose from the keypoints outside the boxes; may re-admit or exclude
@@ -122,21 +85,13 @@ class Tracker {
   /// that pose. Call at the end of a run (frames older than kPoseCheckWindow are checked as tracking
   /// goes on, so that their matches need not be kept). Returns the poses replaced. Takes the map lock.
   int checkPosesAgainstMap();
-  /// Interpolates the interpolated records again, between the final poses of the tracked records
-  /// either side: a loop closure or the pose check may have moved those since, while an
-  /// interpolated record follows only its own reference keyframe. Call at the end of a run, after
-  /// checkPosesAgainstMap. Returns the records posed again. Takes the map lock.
+  /// End-of-run repairs of the records (TrajectoryRepair.h), called in this order after
+  /// checkPosesAgainstMap; each takes the map lock and returns the records posed again.
+  /// Interpolated records again, between the final poses of the records either side.
   int interpolateAgainInFinalMap();
-  /// Poses the predicted records at the end of the run again (bridged after the last tracked
-  /// frame, so no later one interpolates them): the final pose of the last tracked record moved on
-  /// by the median per-frame step of the kEndSteps steps before it, not by the velocity of its own
-  /// last step. Records tracked on blurred images there keep their poses. Call after
-  /// interpolateAgainInFinalMap. Returns the records posed again. Takes the map lock.
+  /// Frames bridged after the last tracked one, moved on by the median of kEndSteps steps.
   int extrapolateEndAgainInFinalMap();
-  /// Interpolates excursions (TrackingParams::excursion_m): runs of at most kExcursionFrames records
-  /// whose camera centres are all further than that from the interpolation between the records
-  /// either side, the furthest run first. Call last at the end of a run. Returns the records posed
-  /// again. Takes the map lock.
+  /// Excursions of up to kExcursionFrames records (TrackingParams::excursion_m).
   int interpolateExcursions();
   /// The most recent frame (features, matches, pose) - for diagnostics.
   const data::Frame* lastFrame() const { return last_frame_.get(); }
@@ -154,6 +109,26 @@ class Tracker {
   static constexpr size_t kExcursionFrames = 3;  ///< longest run of records interpolateExcursions replaces
   static constexpr size_t kSharpnessWindow = 15;  ///< sharp frames whose median sharpness is the yardstick
 
+  /// Tracks the frame against the last frame or the reference keyframe, or relocalises it when
+  /// lost, then against the local map; `refine` (the geometry check) runs on the pose found, or on
+  /// the motion model's prediction when the keypoints outside the boxes were too few. Sets
+  /// `*rescued` when only keypoints the check re-admitted tracked the frame. True if tracked.
+  bool estimatePose(data::Frame& frame, const RefineKeypoints& refine, bool* rescued);
+  /// The tracked pose is further from the motion model's prediction than the camera can move
+  /// (poseJumped), where there is a prediction to compare with.
+  bool jumpedFromMotionModel(const data::Frame& frame) const;
+  /// A tracked frame: records it (provisionally if blurred), updates the velocity, makes a keyframe
+  /// if one is needed, and interpolates the frames bridged or lost before it. Becomes the last frame.
+  void keepTrackedFrame(data::Frame&& frame, bool after_loss, bool rescued, bool mapper_idle, int mapper_queue,
+                        TrackResult& result);
+  /// An untracked frame in a tracked run gets the motion model's pose, if not too many in a row
+  /// have. False if the frame is not bridged.
+  bool bridgeFrame(data::Frame& frame, TrackResult& result);
+  /// An untracked frame that is not bridged: tracking is lost; a new map segment starts on it when
+  /// relocalisation has kept failing.
+  void loseFrame(data::Frame& frame, TrackResult& result);
+  /// Blurred and covered frames are bridged for longer than sharp ones: they are expected to fail.
+  int maxGapFrames() const { return 3 * cfg_.tracking.max_predicted_frames; }
   bool canInitialize(const data::Frame& frame) const;
   bool initialize(data::Frame& frame, bool new_segment);
   bool trackWithMotionModel(data::Frame& frame);
@@ -193,9 +168,6 @@ class Tracker {
   /// and so do the `lost` frames (timestamps, after the bridged ones), which get records first.
   /// False if there was nothing to interpolate from (the records are left as they are).
   bool interpolateBridgedRecords(const std::vector<double>& lost);
-  /// The same between records_[end] and the last tracked record before it, which must be the
-  /// frame at `last_tracked` (timestamp).
-  bool interpolateRecordsBefore(size_t end, double last_tracked, const std::vector<double>& lost);
   /// The tracked pose is further from the constant-velocity prediction than a camera moves in
   /// `periods` frame periods (the tracking.max_jump_* limits are per period).
   bool poseJumped(const Pose& T_cw, int periods) const;
