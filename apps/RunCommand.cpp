@@ -10,6 +10,7 @@
 #include <spdlog/spdlog.h>
 
 #include "Commands.h"
+#include "FrameEventLog.h"
 #include "NumberChecks.h"
 #include "tkgslam/common/Error.h"
 #include "tkgslam/common/ResidentMemory.h"
@@ -109,7 +110,9 @@ void writeUsedConfig(const std::filesystem::path& path, SlamConfig config) {
                       io::configToYaml(config));
 }
 
-int runSlam(const RunOptions& o) {
+/// The configuration file with the command line's options applied. Throws InputError for options
+/// that do not go together.
+SlamConfig configFor(const RunOptions& o) {
   SlamConfig config = io::loadConfig(o.config);
   if (o.deterministic) config.deterministic = true;
   if (!o.mode.empty()) config.dynamic.mode = parseDynamicMode(o.mode);
@@ -145,6 +148,10 @@ int runSlam(const RunOptions& o) {
   if (config.dynamic.detector_tiles > 1 && !config.dynamic.lookahead) {
     throw InputError("--detector-tiles > 1 needs --lookahead (the tiles are frames still to be tracked)");
   }
+  return config;
+}
+
+io::TumDataset openDataset(const RunOptions& o, const SlamConfig& config) {
   io::TumDatasetOptions dopt;
   dopt.depth_factor = config.depth.factor;
   dopt.expected_width = config.camera.width;
@@ -156,6 +163,11 @@ int runSlam(const RunOptions& o) {
   if (o.start_frame >= dataset.size()) {
     throw InputError(fmt::format("--start-frame {}: the sequence has {} frames", o.start_frame, dataset.size()));
   }
+  return dataset;
+}
+
+/// Refuses map options that do not go together now, not after the run.
+void checkMapOptions(const RunOptions& o) {
   if (o.localize && o.load_map.empty()) {
     throw InputError("--localize tracks in a saved map: give it with --load-map");
   }
@@ -163,108 +175,18 @@ int runSlam(const RunOptions& o) {
     throw InputError("--localize leaves the loaded map as it is: there is nothing new for --save-map to save");
   }
   if (!o.save_map.empty()) {
-    // Refused now, not after the run.
     const auto dir = std::filesystem::absolute(o.save_map).parent_path();
     if (!std::filesystem::is_directory(dir)) {
       throw InputError(fmt::format("--save-map '{}': folder '{}' does not exist", o.save_map, dir.string()));
     }
   }
+}
 
-  SlamSystem slam(config);
-  if (!o.load_map.empty()) {
-    const size_t kfs = slam.loadMap(o.load_map, o.localize);
-    std::printf("loaded map %s: %zu keyframes, %zu points; relocalising in it%s\n", o.load_map.c_str(), kfs,
-                slam.mapPointCount(), o.localize ? " (localisation only: the map is not changed)" : "");
-  }
-  io::createOutputFolder(o.out);
+/// Writes what the run built into the output folder (and the map file), and the keypoint
+/// classification against ground-truth masks when the sequence has them.
+void writeOutputs(const RunOptions& o, const SlamConfig& config, const SlamSystem& slam,
+                  const std::vector<StampedPose>& traj) {
   const std::filesystem::path out(o.out);
-  const int first = o.start_frame;
-  const int end = o.max_frames > 0 ? std::min(first + o.max_frames, dataset.size()) : dataset.size();
-  int n = end - first;
-  std::printf("tkgslam run: %d frames from %s (%s, dynamic mode %s)\n", n, o.dataset.c_str(),
-              config.deterministic ? "deterministic" : "threaded", toString(config.dynamic.mode));
-  int skipped = 0, lost = 0, predicted = 0, blurred = 0, segments = 0, reanchored = 0, processed = 0;
-  int interpolated = 0;  // lost frames posed by interpolation once relocalised
-  // Frames that produced no pose, only a predicted one or were blurred, and why: "timestamp status reason".
-  std::ofstream frame_log(out / "frame_log.txt");
-  frame_log << "# frames without a tracked pose, and other events: timestamp status reason\n";
-  // Resident memory every 100 frames: long (--loops) runs must stay flat once the map stops growing.
-  std::ofstream memory_log(out / "memory.tsv");
-  memory_log << "frame\trss_mib\tkeyframes\tmap_points\n";
-  // Ctrl-C stops after the current frame; everything computed so far is still written.
-  g_interrupted = false;
-  auto previous_handler = std::signal(SIGINT, onInterrupt);
-  // With lookahead a frame's outcome arrives some frames after the frame itself.
-  const auto logOutcome = [&](const FrameOutcome& f) {
-    using tracking::TrackingState;
-    if (!f.result.tracked) {
-      ++lost;
-      const bool uninit = f.state == TrackingState::NotInitialized;
-      frame_log << fmt::format("{:.6f} {} {}\n", f.timestamp, uninit ? "not_initialised" : "lost",
-                               uninit ? "too few keypoints with depth to start a map"
-                                      : "too few matches to track or relocalise");
-    }
-    for (double t : f.result.interpolated_lost) {
-      ++interpolated;
-      frame_log << fmt::format(
-          "{:.6f} interpolated lost, then posed between the frames tracked either side (found again at {:.6f})\n", t,
-          f.timestamp);
-    }
-    if (f.result.predicted) {
-      ++predicted;
-      frame_log << fmt::format("{:.6f} predicted {}: pose from the constant-velocity model\n", f.timestamp,
-                               f.result.jump_rejected ? "the tracked pose jumped"
-                               : f.result.covered     ? "too few matches outside the boxes covering the view"
-                                                      : "too few matches");
-    }
-    if (f.result.blurred) {
-      ++blurred;
-      frame_log << fmt::format("{:.6f} blurred the image is much less sharp than the frames before: no keyframe\n",
-                               f.timestamp);
-    }
-    if (f.result.new_segment) {
-      ++segments;
-      frame_log << fmt::format("{:.6f} new_segment a new map segment starts here\n", f.timestamp);
-    }
-    if (f.result.reanchored) {
-      ++reanchored;
-      frame_log << fmt::format("{:.6f} reanchored the map segment was moved into the previous segment's frame\n",
-                               f.timestamp);
-    }
-  };
-  for (int i = first; i < end && !g_interrupted; ++i) {
-    io::RgbdImages images;
-    try {
-      images = dataset.load(i);
-    } catch (const InputError& e) {
-      // A bad frame in the middle of a run is skipped, not fatal.
-      spdlog::warn("frame {} skipped: {}", i, e.what());
-      frame_log << fmt::format("{:.6f} skipped {}\n", dataset.timestamp(i), e.what());
-      ++skipped;
-      continue;
-    }
-    ++processed;
-    for (const auto& f : slam.processFrame(images)) logOutcome(f);
-    const int done = i + 1 - first;
-    if (done % 100 == 0 || done == n) {
-      memory_log << fmt::format("{}\t{:.1f}\t{}\t{}\n", done, residentMemoryMiB(), slam.keyFrameCount(),
-                                slam.mapPointCount())
-                 << std::flush;
-    }
-    if (!o.quiet && (done % 50 == 0 || done == n)) {
-      std::fprintf(stderr, "  frame %4d/%d  tracked %5.1f%%  keyframes %3zu  map points %5zu  %.1f ms/frame  %.0f MiB\n",
-                   done, n, 100.0 * slam.framesTracked() / std::max(1, slam.framesProcessed()), slam.keyFrameCount(),
-                   slam.mapPointCount(), slam.timing().mean("total"), residentMemoryMiB());
-    }
-  }
-  std::signal(SIGINT, previous_handler);
-  if (g_interrupted) {
-    n = processed + skipped;  // the summary covers the frames actually read
-    std::printf("interrupted after %d frames: writing what was computed\n", n);
-  }
-  for (const auto& f : slam.finish()) logOutcome(f);
-
-  const auto traj = slam.trajectory();
   io::writeTumTrajectory((out / "trajectory.txt").string(), traj);
   io::writeTumTrajectory((out / "keyframes.txt").string(), slam.keyFrameTrajectory());
   io::writePly((out / "map.ply").string(), slam.mapPoints());
@@ -300,9 +222,13 @@ int runSlam(const RunOptions& o) {
                 info.size(), kalman_boxes, geometry, info.empty() ? 0.0 : dropped / info.size(),
                 slam.timing().mean("detector"));
   }
+}
 
+/// run.json and the summary on stdout. `n`: frames the run covered (read or skipped).
+void writeSummary(const RunOptions& o, const SlamConfig& config, const SlamSystem& slam, const io::TumDataset& dataset,
+                  const std::vector<StampedPose>& traj, int n, const FrameEventLog& events) {
   const double ratio = n > 0 ? double(traj.size()) / n : 0.0;
-  writeText(out / "run.json",
+  writeText(std::filesystem::path(o.out) / "run.json",
             fmt::format("{{\"dataset\": {}, \"config\": {}, \"mode\": \"{}\", \"deterministic\": {}, "
                         "\"frames\": {}, \"tracked\": {}, \"tracked_ratio\": {:.4f}, \"predicted\": {}, "
                         "\"interpolated_lost\": {}, \"blurred\": {}, \"skipped\": {}, "
@@ -311,20 +237,21 @@ int runSlam(const RunOptions& o) {
                         "\"ratio_threshold\": {}, \"start_frame\": {}, \"map_loaded\": {}, \"map_saved\": {}, \"localization_only\": {}, "
                         "\"associations\": {}}}\n",
                         jsonPathOrNull(o.dataset), jsonPathOrNull(o.config), toString(config.dynamic.mode),
-                        config.deterministic ? "true" : "false", n, traj.size(), ratio, predicted, interpolated, blurred, skipped,
-                        slam.keyFrameCount(), slam.mappingStats().keyframes_held, slam.loopStats().closed,
-                        slam.mapPointCount(), slam.timing().mean("total"), slam.timing().median("total"),
-                        config.dynamic.geometry.ratio_threshold, first, jsonPathOrNull(o.load_map),
+                        config.deterministic ? "true" : "false", n, traj.size(), ratio, events.predicted,
+                        events.interpolated, events.blurred, events.skipped, slam.keyFrameCount(),
+                        slam.mappingStats().keyframes_held, slam.loopStats().closed, slam.mapPointCount(),
+                        slam.timing().mean("total"), slam.timing().median("total"),
+                        config.dynamic.geometry.ratio_threshold, o.start_frame, jsonPathOrNull(o.load_map),
                         jsonPathOrNull(o.save_map), o.localize ? "true" : "false",
                         jsonPathOrNull(dataset.associationFile())));
   std::printf("frames %d, tracked %zu (%.2f %%; %d of them predicted, %d lost and then interpolated), blurred %d, "
               "skipped %d (unreadable), lost %d, keyframes %zu, map points %zu%s\n",
-              n, traj.size(), 100.0 * ratio, predicted, interpolated, blurred, skipped, lost, slam.keyFrameCount(),
-              slam.mapPointCount(),
-              skipped + lost + predicted + blurred > 0 ? " - see frame_log.txt" : "");
-  if (segments > 0) {
+              n, traj.size(), 100.0 * ratio, events.predicted, events.interpolated, events.blurred, events.skipped,
+              events.lost, slam.keyFrameCount(), slam.mapPointCount(),
+              events.skipped + events.lost + events.predicted + events.blurred > 0 ? " - see frame_log.txt" : "");
+  if (events.segments > 0) {
     std::printf("tracking was lost for good %d time(s): %d new map segment(s), %d re-anchored to the one before\n",
-                segments, segments, reanchored);
+                events.segments, events.segments, events.reanchored);
   }
   if (const int held = slam.mappingStats().keyframes_held; held > 0) {
     std::printf("local BA held %d new keyframe(s) where tracking put them (it moved them further than "
@@ -351,12 +278,76 @@ int runSlam(const RunOptions& o) {
     const auto ate = eval::computeAte(io::readTumTrajectory(*gt_path), est);
     std::printf("ATE RMSE %.4f m (%d poses)\n", ate.stats.rmse, ate.stats.count);
   }
+}
+
+int runSlam(const RunOptions& o) {
+  const SlamConfig config = configFor(o);
+  io::TumDataset dataset = openDataset(o, config);
+  checkMapOptions(o);
+
+  SlamSystem slam(config);
+  if (!o.load_map.empty()) {
+    const size_t kfs = slam.loadMap(o.load_map, o.localize);
+    std::printf("loaded map %s: %zu keyframes, %zu points; relocalising in it%s\n", o.load_map.c_str(), kfs,
+                slam.mapPointCount(), o.localize ? " (localisation only: the map is not changed)" : "");
+  }
+  io::createOutputFolder(o.out);
+  const std::filesystem::path out(o.out);
+  const int first = o.start_frame;
+  const int end = o.max_frames > 0 ? std::min(first + o.max_frames, dataset.size()) : dataset.size();
+  int n = end - first;
+  std::printf("tkgslam run: %d frames from %s (%s, dynamic mode %s)\n", n, o.dataset.c_str(),
+              config.deterministic ? "deterministic" : "threaded", toString(config.dynamic.mode));
+  int processed = 0;
+  // Frames that produced no pose, only a predicted one or were blurred, and why.
+  FrameEventLog events(out / "frame_log.txt");
+  // Resident memory every 100 frames: long (--loops) runs must stay flat once the map stops growing.
+  std::ofstream memory_log(out / "memory.tsv");
+  memory_log << "frame\trss_mib\tkeyframes\tmap_points\n";
+  // Ctrl-C stops after the current frame; everything computed so far is still written.
+  g_interrupted = false;
+  auto previous_handler = std::signal(SIGINT, onInterrupt);
+  for (int i = first; i < end && !g_interrupted; ++i) {
+    io::RgbdImages images;
+    try {
+      images = dataset.load(i);
+    } catch (const InputError& e) {
+      // A bad frame in the middle of a run is skipped, not fatal.
+      spdlog::warn("frame {} skipped: {}", i, e.what());
+      events.addSkipped(dataset.timestamp(i), e.what());
+      continue;
+    }
+    ++processed;
+    // (With lookahead a frame's outcome arrives some frames after the frame itself.)
+    for (const auto& f : slam.processFrame(images)) events.add(f);
+    const int done = i + 1 - first;
+    if (done % 100 == 0 || done == n) {
+      memory_log << fmt::format("{}\t{:.1f}\t{}\t{}\n", done, residentMemoryMiB(), slam.keyFrameCount(),
+                                slam.mapPointCount())
+                 << std::flush;
+    }
+    if (!o.quiet && (done % 50 == 0 || done == n)) {
+      std::fprintf(stderr, "  frame %4d/%d  tracked %5.1f%%  keyframes %3zu  map points %5zu  %.1f ms/frame  %.0f MiB\n",
+                   done, n, 100.0 * slam.framesTracked() / std::max(1, slam.framesProcessed()), slam.keyFrameCount(),
+                   slam.mapPointCount(), slam.timing().mean("total"), residentMemoryMiB());
+    }
+  }
+  std::signal(SIGINT, previous_handler);
+  if (g_interrupted) {
+    n = processed + events.skipped;  // the summary covers the frames actually read
+    std::printf("interrupted after %d frames: writing what was computed\n", n);
+  }
+  for (const auto& f : slam.finish()) events.add(f);
+
+  const auto traj = slam.trajectory();
+  writeOutputs(o, config, slam, traj);
+  writeSummary(o, config, slam, dataset, traj, n, events);
   if (o.report) std::printf("report: %s\n", report::writeHtmlReport(o.out).c_str());
   std::printf("outputs: %s/{trajectory.txt, keyframes.txt, map.ply, timing.json, run.json, frame_log.txt, memory.tsv}\n",
               o.out.c_str());
-  if (processed == 0 && skipped > 0 && !g_interrupted) {
+  if (processed == 0 && events.skipped > 0 && !g_interrupted) {
     // Outputs are written (frame_log.txt says why each frame failed), but an empty trajectory is no result.
-    throw InputError(fmt::format("no frame could be read ({} tried; see {}/frame_log.txt)", skipped, o.out));
+    throw InputError(fmt::format("no frame could be read ({} tried; see {}/frame_log.txt)", events.skipped, o.out));
   }
   if (o.localize && traj.empty() && processed > 0 && !g_interrupted) {
     // Nothing to show for the run: most likely a map of another place (or another sequence's camera).
