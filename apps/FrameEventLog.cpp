@@ -14,42 +14,43 @@ FrameEventLog::FrameEventLog(const std::filesystem::path& path) : out_(path) {
 void FrameEventLog::add(const FrameOutcome& f) {
   using tracking::TrackingState;
   if (!f.result.tracked) {
-    ++lost;
+    ++counts_.lost;
     const bool uninit = f.state == TrackingState::NotInitialized;
     out_ << fmt::format("{:.6f} {} {}\n", f.timestamp, uninit ? "not_initialised" : "lost",
-                        uninit ? "too few keypoints with depth to start a map" : "too few matches to track or relocalise");
+                        uninit ? "too few keypoints with depth to start a map"
+                               : "too few matches to track or relocalise");
   }
   for (double t : f.result.interpolated_lost) {
-    ++interpolated;
+    ++counts_.interpolated;
     out_ << fmt::format(
         "{:.6f} interpolated lost, then posed between the frames tracked either side (found again at {:.6f})\n", t,
         f.timestamp);
   }
   if (f.result.predicted) {
-    ++predicted;
+    ++counts_.predicted;
     out_ << fmt::format("{:.6f} predicted {}: pose from the constant-velocity model\n", f.timestamp,
                         f.result.jump_rejected ? "the tracked pose jumped"
                         : f.result.covered     ? "too few matches outside the boxes covering the view"
                                                : "too few matches");
   }
   if (f.result.blurred) {
-    ++blurred;
+    ++counts_.blurred;
     out_ << fmt::format("{:.6f} blurred the image is much less sharp than the frames before: no keyframe\n",
                         f.timestamp);
   }
   if (f.result.new_segment) {
-    ++segments;
+    ++counts_.segments;
     out_ << fmt::format("{:.6f} new_segment a new map segment starts here\n", f.timestamp);
   }
   if (f.result.reanchored) {
-    ++reanchored;
+    ++counts_.reanchored;
     out_ << fmt::format("{:.6f} reanchored the map segment was moved into the previous segment's frame\n",
                         f.timestamp);
   }
 }
 
 void FrameEventLog::addSkipped(double timestamp, const std::string& why) {
-  ++skipped;
+  ++counts_.skipped;
   out_ << fmt::format("{:.6f} skipped {}\n", timestamp, why);
 }
 

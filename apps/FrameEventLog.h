@@ -19,17 +19,21 @@ class FrameEventLog {
   /// A frame that could not be read (`timestamp` in seconds).
   void addSkipped(double timestamp, const std::string& why);
 
-  // Counts of the events logged.
-  int lost = 0;          ///< frames without a pose (not initialised yet, or lost)
-  int interpolated = 0;  ///< lost frames posed by interpolation once relocalised
-  int predicted = 0;     ///< frames posed by the motion model
-  int blurred = 0;
-  int segments = 0;      ///< new map segments
-  int reanchored = 0;    ///< segments moved into the previous one's frame
-  int skipped = 0;       ///< frames that could not be read
+  /// How many of each event were logged.
+  struct Counts {
+    int lost = 0;          ///< frames without a pose (not initialised yet, or lost)
+    int interpolated = 0;  ///< lost frames posed by interpolation once relocalised
+    int predicted = 0;     ///< frames posed by the motion model
+    int blurred = 0;
+    int segments = 0;      ///< new map segments
+    int reanchored = 0;    ///< segments moved into the previous one's frame
+    int skipped = 0;       ///< frames that could not be read
+  };
+  const Counts& counts() const { return counts_; }
 
  private:
   std::ofstream out_;
+  Counts counts_;
 };
 
 }  // namespace tkgslam::app

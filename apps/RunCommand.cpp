@@ -226,7 +226,7 @@ void writeOutputs(const RunOptions& o, const SlamConfig& config, const SlamSyste
 
 /// run.json and the summary on stdout. `n`: frames the run covered (read or skipped).
 void writeSummary(const RunOptions& o, const SlamConfig& config, const SlamSystem& slam, const io::TumDataset& dataset,
-                  const std::vector<StampedPose>& traj, int n, const FrameEventLog& events) {
+                  const std::vector<StampedPose>& traj, int n, const FrameEventLog::Counts& events) {
   const double ratio = n > 0 ? double(traj.size()) / n : 0.0;
   writeText(std::filesystem::path(o.out) / "run.json",
             fmt::format("{{\"dataset\": {}, \"config\": {}, \"mode\": \"{}\", \"deterministic\": {}, "
@@ -334,20 +334,21 @@ int runSlam(const RunOptions& o) {
   }
   std::signal(SIGINT, previous_handler);
   if (g_interrupted) {
-    n = processed + events.skipped;  // the summary covers the frames actually read
+    n = processed + events.counts().skipped;  // the summary covers the frames actually read
     std::printf("interrupted after %d frames: writing what was computed\n", n);
   }
   for (const auto& f : slam.finish()) events.add(f);
 
   const auto traj = slam.trajectory();
   writeOutputs(o, config, slam, traj);
-  writeSummary(o, config, slam, dataset, traj, n, events);
+  writeSummary(o, config, slam, dataset, traj, n, events.counts());
   if (o.report) std::printf("report: %s\n", report::writeHtmlReport(o.out).c_str());
   std::printf("outputs: %s/{trajectory.txt, keyframes.txt, map.ply, timing.json, run.json, frame_log.txt, memory.tsv}\n",
               o.out.c_str());
-  if (processed == 0 && events.skipped > 0 && !g_interrupted) {
+  if (processed == 0 && events.counts().skipped > 0 && !g_interrupted) {
     // Outputs are written (frame_log.txt says why each frame failed), but an empty trajectory is no result.
-    throw InputError(fmt::format("no frame could be read ({} tried; see {}/frame_log.txt)", events.skipped, o.out));
+    throw InputError(
+        fmt::format("no frame could be read ({} tried; see {}/frame_log.txt)", events.counts().skipped, o.out));
   }
   if (o.localize && traj.empty() && processed > 0 && !g_interrupted) {
     // Nothing to show for the run: most likely a map of another place (or another sequence's camera).
