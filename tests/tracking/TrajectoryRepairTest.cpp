@@ -15,27 +15,30 @@ using tracking::FrameRecord;
 
 constexpr double kFps = 30;
 
-/// A keyframe at the world origin: records referenced to it have T_cr = T_cw.
-std::shared_ptr<data::KeyFrame> keyFrameAt(const Vec3& centre, long id = 0) {
+/// World -> camera pose of an unrotated camera whose centre is `centre` (world, metres).
+Pose cameraAt(const Vec3& centre) {
   Pose T_cw = Pose::Identity();
   T_cw.translation() = -centre;
-  return std::make_shared<data::KeyFrame>(id, id, 0.0, std::make_shared<data::FrameFeatures>(), T_cw);
+  return T_cw;
+}
+
+/// A keyframe at the world origin: records referenced to it have T_cr = T_cw.
+std::shared_ptr<data::KeyFrame> keyFrameAtOrigin(long id = 0) {
+  return std::make_shared<data::KeyFrame>(id, id, 0.0, std::make_shared<data::FrameFeatures>(), Pose::Identity());
 }
 
 /// A record at frame `k` (timestamp k / kFps) whose camera centre is `centre` (world, metres).
 FrameRecord recordAt(double k, const Vec3& centre, const std::shared_ptr<data::KeyFrame>& kf,
                      bool provisional = false) {
   FrameRecord r(k / kFps, kf, Pose::Identity(), provisional);
-  Pose T_cw = Pose::Identity();
-  T_cw.translation() = -centre;
-  r.setT_cw(T_cw);
+  r.setT_cw(cameraAt(centre));
   return r;
 }
 
 Vec3 centreOf(const FrameRecord& r) { return r.T_cw().inverse().translation(); }
 
 TEST(TrajectoryRepairTest, BridgedRecordsAreInterpolatedAndLostFramesGetRecords) {
-  const auto kf = keyFrameAt(Vec3::Zero());
+  const auto kf = keyFrameAtOrigin();
   std::vector<FrameRecord> records{recordAt(0, Vec3(0, 0, 0), kf), recordAt(1, Vec3(1, 1, 1), kf, true),
                                    recordAt(3, Vec3(0.3, 0, 0.03), kf)};
   records[1].predicted = true;
@@ -61,7 +64,7 @@ TEST(TrajectoryRepairTest, BridgedRecordsAreInterpolatedAndLostFramesGetRecords)
 }
 
 TEST(TrajectoryRepairTest, InterpolatedRecordsFollowTheirNeighboursWhenInterpolatedAgain) {
-  const auto kf_a = keyFrameAt(Vec3::Zero(), 0), kf_b = keyFrameAt(Vec3::Zero(), 1);
+  const auto kf_a = keyFrameAtOrigin(0), kf_b = keyFrameAtOrigin(1);
   std::vector<FrameRecord> records{recordAt(0, Vec3(0, 0, 0), kf_a), recordAt(1, Vec3(0.1, 0, 0), kf_a),
                                    recordAt(2, Vec3(0.2, 0, 0), kf_b)};
   records[1].interpolated = true;
@@ -69,9 +72,7 @@ TEST(TrajectoryRepairTest, InterpolatedRecordsFollowTheirNeighboursWhenInterpola
   EXPECT_TRUE(centreOf(records[1]).isApprox(Vec3(0.1, 0, 0), 1e-9));
   // A correction (loop closure) moves the later keyframe by 10 cm: the record referenced to it
   // follows, and the interpolated one between is moved half as far.
-  Pose moved = Pose::Identity();
-  moved.translation() = Vec3(-0.1, 0, 0);
-  kf_b->setPose(moved);
+  kf_b->setPose(cameraAt(Vec3(0.1, 0, 0)));
   EXPECT_TRUE(centreOf(records[2]).isApprox(Vec3(0.3, 0, 0), 1e-9));
   EXPECT_TRUE(centreOf(records[1]).isApprox(Vec3(0.1, 0, 0), 1e-9));
   EXPECT_EQ(tracking::interpolateAgain(records), 1);
@@ -80,7 +81,7 @@ TEST(TrajectoryRepairTest, InterpolatedRecordsFollowTheirNeighboursWhenInterpola
 }
 
 TEST(TrajectoryRepairTest, FramesBridgedAtTheEndMoveOnByTheMedianStep) {
-  const auto kf = keyFrameAt(Vec3::Zero());
+  const auto kf = keyFrameAtOrigin();
   std::vector<FrameRecord> records;
   for (int k = 0; k < 5; ++k) records.push_back(recordAt(k, Vec3(0.01 * k, 0, 0), kf));
   records.push_back(recordAt(5, Vec3(0.11, 0, 0), kf));  // one 7 cm step just before the cover
@@ -100,7 +101,7 @@ TEST(TrajectoryRepairTest, FramesBridgedAtTheEndMoveOnByTheMedianStep) {
 }
 
 TEST(TrajectoryRepairTest, ExcursionsOffTheLineAreInterpolatedSmallOnesStay) {
-  const auto kf = keyFrameAt(Vec3::Zero());
+  const auto kf = keyFrameAtOrigin();
   std::vector<FrameRecord> records;
   for (int k = 0; k < 20; ++k) {
     Vec3 c(0.01 * k, 0, 0);
@@ -120,7 +121,7 @@ TEST(TrajectoryRepairTest, ExcursionsOffTheLineAreInterpolatedSmallOnesStay) {
 }
 
 TEST(TrajectoryRepairTest, NoExcursionIsInterpolatedAcrossAGapInTheInput) {
-  const auto kf = keyFrameAt(Vec3::Zero());
+  const auto kf = keyFrameAtOrigin();
   for (const double t_b : {2.0, 20.0}) {
     std::vector<FrameRecord> records{recordAt(0, Vec3(0, 0, 0), kf), recordAt(1, Vec3(0.01, 0.1, 0), kf),
                                      recordAt(t_b, Vec3(0.01 * t_b, 0, 0), kf)};
