@@ -84,5 +84,40 @@ TEST(HtmlReport, NotARunFolderIsAClearError) {
   EXPECT_NE(out.find("not the output folder"), std::string::npos) << out;
 }
 
+/// A run folder without ground truth or images: run.json, a two-pose trajectory and dynamic.jsonl.
+void writeSmallRun(const std::filesystem::path& dir, const std::string& dynamic_jsonl) {
+  test::writeText(dir / "run.json", "{\"dataset\": \"\", \"mode\": \"TKG\", \"frames\": 2, \"ratio_threshold\": 0.7}\n");
+  test::writeText(dir / "trajectory.txt", "1.0 0 0 0 0 0 0 1\n1.1 0.01 0 0 0 0 0 1\n");
+  test::writeText(dir / "dynamic.jsonl", dynamic_jsonl);
+}
+
+const char* const kDynamicLine =
+    "{\"timestamp\": 1.0, \"T\": 0.4, \"dropped\": 12, \"boxes\": [{\"x\": 10.0, \"y\": 20.0, \"w\": 30.0, "
+    "\"h\": 40.0, \"class\": 0, \"score\": 0.9, \"predicted\": false, \"track\": 0}]}\n";
+
+TEST(HtmlReport, SmallRunFolderWithoutGroundTruth) {
+  test::TempDir tmp;
+  writeSmallRun(tmp.path(), std::string(kDynamicLine) + kDynamicLine);
+  const std::string html = test::readFile(report::writeHtmlReport(tmp.path().string()));
+  EXPECT_NE(html.find("No ground truth: accuracy plots omitted."), std::string::npos);
+  EXPECT_NE(html.find("<h2>Dynamic objects</h2>"), std::string::npos);
+  EXPECT_NE(html.find("<tr><th>frames</th><td>2</td></tr>"), std::string::npos);
+}
+
+TEST(HtmlReport, MalformedDynamicLogNamesTheLine) {
+  test::TempDir tmp;
+  // Line 2 has no number for T; line 2 of the second file a box whose x is not a number.
+  writeSmallRun(tmp.path(), std::string(kDynamicLine) + "{\"timestamp\": 1.1, \"T\": x, \"dropped\": 0}\n");
+  std::string out;
+  EXPECT_EQ(test::runCli("report " + tmp.path().string(), &out), 2);
+  EXPECT_NE(out.find("dynamic.jsonl:2: no number \"T\""), std::string::npos) << out;
+
+  std::string bad_box = kDynamicLine;
+  bad_box.replace(bad_box.find("10.0"), 4, "-");
+  writeSmallRun(tmp.path(), std::string(kDynamicLine) + bad_box);
+  EXPECT_EQ(test::runCli("report " + tmp.path().string(), &out), 2);
+  EXPECT_NE(out.find("dynamic.jsonl:2: bad box"), std::string::npos) << out;
+}
+
 }  // namespace
 }  // namespace tkgslam

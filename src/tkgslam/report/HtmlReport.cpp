@@ -16,6 +16,7 @@
 #include "tkgslam/eval/Rpe.h"
 #include "tkgslam/eval/TrajectoryPlot.h"
 #include "tkgslam/io/TrajectoryFile.h"
+#include "tkgslam/io/TextParsing.h"
 #include "tkgslam/io/TumDataset.h"
 #include "tkgslam/report/SvgPlot.h"
 #include "tkgslam/report/ViewerScript.h"
@@ -87,6 +88,15 @@ struct DynamicLine {
   std::vector<std::pair<cv::Rect, bool>> boxes;  // box, predicted
 };
 
+/// The number under `key` in one line of dynamic.jsonl; InputError "file:N: ..." if it has none.
+double numberIn(const std::string& line, const char* key, const fs::path& p, int line_no) {
+  double v = 0;
+  if (!io::parseDouble(jsonValue(line, key), v)) {
+    throw InputError(fmt::format("{}:{}: no number \"{}\" in '{}'", p.string(), line_no, key, line.substr(0, 80)));
+  }
+  return v;
+}
+
 std::vector<DynamicLine> readDynamic(const fs::path& p) {
   std::vector<DynamicLine> out;
   std::ifstream in(p);
@@ -94,15 +104,21 @@ std::vector<DynamicLine> readDynamic(const fs::path& p) {
   static const std::regex box_re(
       "\\{\"x\": ([-0-9.]+), \"y\": ([-0-9.]+), \"w\": ([-0-9.]+), \"h\": ([-0-9.]+), \"class\": [0-9]+, "
       "\"score\": [0-9.]+, \"predicted\": (true|false)");
-  while (std::getline(in, line)) {
+  for (int line_no = 1; std::getline(in, line); ++line_no) {
     DynamicLine d;
-    d.timestamp = std::stod(jsonValue(line, "timestamp"));
-    d.ratio = std::stod(jsonValue(line, "T"));
-    d.dropped = std::stoi(jsonValue(line, "dropped"));
+    d.timestamp = numberIn(line, "timestamp", p, line_no);
+    d.ratio = numberIn(line, "T", p, line_no);
+    d.dropped = int(numberIn(line, "dropped", p, line_no));
     for (auto it = std::sregex_iterator(line.begin(), line.end(), box_re); it != std::sregex_iterator(); ++it) {
       const auto& m = *it;
       const bool pred = m[5] == "true";
-      d.boxes.push_back({cv::Rect(int(std::stod(m[1])), int(std::stod(m[2])), int(std::stod(m[3])), int(std::stod(m[4]))), pred});
+      double xywh[4];
+      for (int k = 0; k < 4; ++k) {
+        if (!io::parseDouble(m[k + 1], xywh[k])) {
+          throw InputError(fmt::format("{}:{}: bad box '{}'", p.string(), line_no, m.str().substr(0, 80)));
+        }
+      }
+      d.boxes.push_back({cv::Rect(int(xywh[0]), int(xywh[1]), int(xywh[2]), int(xywh[3])), pred});
       (pred ? d.predicted : d.detected)++;
     }
     out.push_back(std::move(d));
@@ -139,6 +155,131 @@ std::string sceneJson(const std::vector<PlyPoint>& pts, const std::vector<io::Tr
   return s + "]}";
 }
 
+const char* const kPageHead =
+    "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>tkgslam report</title><style>"
+    "body{font-family:sans-serif;margin:24px;max-width:1200px;color:#222}"
+    "h2{border-bottom:1px solid #ccc;padding-bottom:4px;margin-top:28px}"
+    "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 10px;text-align:left}"
+    ".row{display:flex;flex-wrap:wrap;gap:12px}pre{background:#f6f6f6;padding:10px;overflow:auto}"
+    ".traj svg{width:540px;height:auto}canvas{border:1px solid #999;cursor:grab}.thumbs img{margin:2px;border:1px solid #999}"
+    "</style><script>window.onerror=function(m){document.title='tkgslam report ERROR: '+m;};</script>"
+    "</head><body>";
+
+/// The accuracy against the dataset's ground truth: rows for the summary table and the figures.
+struct AccuracySection {
+  std::string rows, figures;
+};
+
+AccuracySection accuracySection(const std::string& dataset, const std::vector<io::TrajectoryEntry>& traj) {
+  const fs::path gt_path = fs::path(dataset) / "groundtruth.txt";
+  if (dataset.empty() || !fs::is_regular_file(gt_path) || traj.size() < 2) {
+    return {"", "<p>No ground truth: accuracy plots omitted.</p>"};
+  }
+  const auto gt = io::readTumTrajectory(gt_path.string());
+  const auto ate = eval::computeAte(gt, traj);
+  AccuracySection a;
+  a.rows = fmt::format("<tr><th>ATE RMSE</th><td>{:.4f} m ({} poses)</td></tr>", ate.stats.rmse, ate.stats.count);
+  std::string rpe_figure;
+  try {
+    const auto rpe = eval::computeRpe(gt, traj, 1.0);
+    a.rows += fmt::format("<tr><th>RPE RMSE (1 s)</th><td>{:.4f} m, {:.3f} deg</td></tr>", rpe.translation.rmse,
+                          rpe.rotation_deg.rmse);
+    Series s{"translational RPE (m)", "#d62728", {}, rpe.translation_errors};
+    for (double t : rpe.timestamps) s.x.push_back(t - traj.front().timestamp);
+    rpe_figure = svgLinePlot("RPE over time (1 s)", "time (s)", "m", {s});
+  } catch (const InputError&) {
+    rpe_figure = "<p>RPE: the trajectory is shorter than 1 s.</p>";
+  }
+  a.figures = "<h2>Trajectory vs ground truth</h2><div class=\"row traj\">";
+  a.figures += eval::renderTrajectorySvg(ate, "top view", 0, 1);
+  a.figures += eval::renderTrajectorySvg(ate, "side view", 0, 2);
+  Series err{"ATE error (m)", "#1f77b4", {}, ate.errors};
+  for (double t : ate.timestamps) err.x.push_back(t - ate.timestamps.front());
+  a.figures += "</div><div class=\"row\">" + svgLinePlot("ATE error over time", "time (s)", "m", {err}) + rpe_figure + "</div>";
+  return a;
+}
+
+/// Mean time per stage from timing.json (stages it cannot read are left out).
+std::string timingSection(const fs::path& timing_json) {
+  const std::string timing = slurp(timing_json);
+  std::vector<std::pair<std::string, double>> bars;
+  static const std::regex stage_re("\"([a-z_]+)\": \\{\"count\": [0-9]+, \"mean_ms\": ([0-9.]+)");
+  for (auto it = std::sregex_iterator(timing.begin(), timing.end(), stage_re); it != std::sregex_iterator(); ++it) {
+    double ms = 0;
+    if (io::parseDouble((*it)[2], ms)) bars.emplace_back((*it)[1], ms);
+  }
+  return "<h2>Time per frame</h2>" + svgBarChart("mean per stage (detector: per run)", bars, "ms");
+}
+
+std::string sceneSection(const std::vector<PlyPoint>& pts, const std::vector<io::TrajectoryEntry>& traj,
+                         const std::vector<io::TrajectoryEntry>& kfs) {
+  return "<h2>3-D map</h2><p>Map points coloured by height, keyframes (yellow), trajectory (red). Drag to orbit, "
+         "wheel to zoom.</p><canvas id=\"view3d\" width=\"900\" height=\"560\"></canvas>"
+         "<script id=\"scene\" type=\"application/json\">" +
+         sceneJson(pts, traj, kfs) + "</script>";
+}
+
+/// Plots of the ratio T against the threshold `tau`, the boxes and the dropped keypoints over time.
+std::string dynamicPlots(const std::vector<DynamicLine>& dyn, double tau_value) {
+  Series ratio{"T (box area / image)", "#9467bd", {}, {}}, tau{"tau", "#999", {}, {}};
+  Series det{"detected", "#1f77b4", {}, {}}, pred{"Kalman-filled", "#ff7f0e", {}, {}};
+  Series drop{"dropped keypoints", "#2ca02c", {}, {}};
+  for (const auto& d : dyn) {
+    const double t = d.timestamp - dyn.front().timestamp;
+    ratio.x.push_back(t), ratio.y.push_back(d.ratio);
+    det.x.push_back(t), det.y.push_back(d.detected);
+    pred.x.push_back(t), pred.y.push_back(d.predicted);
+    drop.x.push_back(t), drop.y.push_back(d.dropped);
+  }
+  tau.x = {0.0, ratio.x.back()};
+  tau.y = {tau_value, tau_value};
+  return "<h2>Dynamic objects</h2><div class=\"row\">" + svgLinePlot("ratio T over time", "time (s)", "T", {ratio, tau}) +
+         svgLinePlot("boxes per frame", "time (s)", "boxes", {det, pred}) +
+         svgLinePlot("keypoints dropped per frame", "time (s)", "keypoints", {drop}) + "</div>";
+}
+
+/// Eight frames spread over the run, with their boxes drawn (red detected, orange Kalman-filled).
+std::string thumbnails(const std::string& dataset, const std::vector<DynamicLine>& dyn) {
+  try {
+    io::TumDataset ds(dataset);
+    std::map<long long, const DynamicLine*> by_stamp;
+    for (const auto& d : dyn) by_stamp[std::llround(d.timestamp * 1e6)] = &d;
+    std::string html = "<div class=\"thumbs\">";
+    const int n = std::min(ds.size(), int(dyn.size()));
+    for (int k = 0; k < 8 && n > 0; ++k) {
+      const int i = int((long long)k * (n - 1) / 7);
+      auto img = ds.load(i);
+      auto it = by_stamp.find(std::llround(img.timestamp * 1e6));
+      if (it != by_stamp.end()) {
+        for (const auto& [box, predicted] : it->second->boxes) {
+          cv::rectangle(img.bgr, box, predicted ? cv::Scalar(0, 165, 255) : cv::Scalar(0, 0, 255), 3);
+        }
+      }
+      cv::Mat small;
+      cv::resize(img.bgr, small, cv::Size(200, 150), 0, 0, cv::INTER_AREA);
+      std::vector<uchar> jpg;
+      cv::imencode(".jpg", small, jpg, {cv::IMWRITE_JPEG_QUALITY, 80});
+      html += fmt::format("<img width=\"200\" height=\"150\" title=\"{:.3f}\" src=\"data:image/jpeg;base64,{}\">",
+                          img.timestamp, base64(jpg));
+    }
+    return html + "</div><p>Red: detected boxes; orange: filled in by the Kalman tracker.</p>";
+  } catch (const InputError& e) {
+    return fmt::format("<p>Thumbnails unavailable: {}</p>", escapeXml(e.what()));
+  }
+}
+
+/// The dynamic-objects section, empty for a run without dynamic.jsonl (or an empty one).
+std::string dynamicSection(const fs::path& dynamic_jsonl, const std::string& run, const std::string& dataset) {
+  if (!fs::is_regular_file(dynamic_jsonl)) return "";
+  const auto dyn = readDynamic(dynamic_jsonl);
+  if (dyn.empty()) return "";
+  double tau = 0.7;  // the default, for run.json files written before the threshold was recorded
+  if (double v = 0; io::parseDouble(jsonValue(run, "ratio_threshold"), v)) tau = v;
+  std::string html = dynamicPlots(dyn, tau);
+  if (fs::is_directory(dataset)) html += thumbnails(dataset, dyn);
+  return html;
+}
+
 }  // namespace
 
 std::string writeHtmlReport(const std::string& out_dir) {
@@ -150,18 +291,10 @@ std::string writeHtmlReport(const std::string& out_dir) {
   const auto traj = io::readTumTrajectory((dir / "trajectory.txt").string());
   const auto kfs = fs::exists(dir / "keyframes.txt") ? io::readTumTrajectory((dir / "keyframes.txt").string())
                                                       : std::vector<io::TrajectoryEntry>{};
-  const auto pts = readPly(dir / "map.ply");
   const std::string dataset = jsonValue(run, "dataset");
   const std::string mode = jsonValue(run, "mode");
 
-  std::string html = "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>tkgslam report</title><style>"
-                     "body{font-family:sans-serif;margin:24px;max-width:1200px;color:#222}"
-                     "h2{border-bottom:1px solid #ccc;padding-bottom:4px;margin-top:28px}"
-                     "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 10px;text-align:left}"
-                     ".row{display:flex;flex-wrap:wrap;gap:12px}pre{background:#f6f6f6;padding:10px;overflow:auto}"
-                     ".traj svg{width:540px;height:auto}canvas{border:1px solid #999;cursor:grab}.thumbs img{margin:2px;border:1px solid #999}"
-                     "</style><script>window.onerror=function(m){document.title='tkgslam report ERROR: '+m;};</script>"
-                     "</head><body>";
+  std::string html = kPageHead;
   html += fmt::format("<h1>tkgslam run report</h1><p>Sequence <code>{}</code>, dynamic mode <b>{}</b>.</p>",
                       escapeXml(dataset), escapeXml(mode));
   html += "<h2>Summary</h2><table>";
@@ -169,99 +302,11 @@ std::string writeHtmlReport(const std::string& out_dir) {
                         "median_ms_per_frame"}) {
     html += fmt::format("<tr><th>{}</th><td>{}</td></tr>", k, escapeXml(jsonValue(run, k)));
   }
-
-  // Accuracy against the ground truth, when the dataset has it.
-  const fs::path gt_path = fs::path(dataset) / "groundtruth.txt";
-  if (!dataset.empty() && fs::is_regular_file(gt_path) && traj.size() >= 2) {
-    const auto gt = io::readTumTrajectory(gt_path.string());
-    const auto ate = eval::computeAte(gt, traj);
-    html += fmt::format("<tr><th>ATE RMSE</th><td>{:.4f} m ({} poses)</td></tr>", ate.stats.rmse, ate.stats.count);
-    std::string rpe_section;
-    try {
-      const auto rpe = eval::computeRpe(gt, traj, 1.0);
-      html += fmt::format("<tr><th>RPE RMSE (1 s)</th><td>{:.4f} m, {:.3f} deg</td></tr>", rpe.translation.rmse,
-                          rpe.rotation_deg.rmse);
-      Series s{"translational RPE (m)", "#d62728", {}, rpe.translation_errors};
-      for (double t : rpe.timestamps) s.x.push_back(t - traj.front().timestamp);
-      rpe_section = svgLinePlot("RPE over time (1 s)", "time (s)", "m", {s});
-    } catch (const InputError&) {
-      rpe_section = "<p>RPE: the trajectory is shorter than 1 s.</p>";
-    }
-    html += "</table><h2>Trajectory vs ground truth</h2><div class=\"row traj\">";
-    html += eval::renderTrajectorySvg(ate, "top view", 0, 1);
-    html += eval::renderTrajectorySvg(ate, "side view", 0, 2);
-    Series err{"ATE error (m)", "#1f77b4", {}, ate.errors};
-    for (double t : ate.timestamps) err.x.push_back(t - ate.timestamps.front());
-    html += "</div><div class=\"row\">" + svgLinePlot("ATE error over time", "time (s)", "m", {err}) + rpe_section + "</div>";
-  } else {
-    html += "</table><p>No ground truth: accuracy plots omitted.</p>";
-  }
-
-  // Timings.
-  const std::string timing = slurp(dir / "timing.json");
-  std::vector<std::pair<std::string, double>> bars;
-  static const std::regex stage_re("\"([a-z_]+)\": \\{\"count\": [0-9]+, \"mean_ms\": ([0-9.]+)");
-  for (auto it = std::sregex_iterator(timing.begin(), timing.end(), stage_re); it != std::sregex_iterator(); ++it) {
-    bars.emplace_back((*it)[1], std::stod((*it)[2]));
-  }
-  html += "<h2>Time per frame</h2>" + svgBarChart("mean per stage (detector: per run)", bars, "ms");
-
-  // 3-D view.
-  html += "<h2>3-D map</h2><p>Map points coloured by height, keyframes (yellow), trajectory (red). Drag to orbit, "
-          "wheel to zoom.</p><canvas id=\"view3d\" width=\"900\" height=\"560\"></canvas>";
-  html += "<script id=\"scene\" type=\"application/json\">" + sceneJson(pts, traj, kfs) + "</script>";
-
-  // Dynamic objects.
-  if (fs::is_regular_file(dir / "dynamic.jsonl")) {
-    const auto dyn = readDynamic(dir / "dynamic.jsonl");
-    if (!dyn.empty()) {
-      Series ratio{"T (box area / image)", "#9467bd", {}, {}}, tau{"tau", "#999", {}, {}};
-      Series det{"detected", "#1f77b4", {}, {}}, pred{"Kalman-filled", "#ff7f0e", {}, {}};
-      Series drop{"dropped keypoints", "#2ca02c", {}, {}};
-      for (const auto& d : dyn) {
-        const double t = d.timestamp - dyn.front().timestamp;
-        ratio.x.push_back(t), ratio.y.push_back(d.ratio);
-        det.x.push_back(t), det.y.push_back(d.detected);
-        pred.x.push_back(t), pred.y.push_back(d.predicted);
-        drop.x.push_back(t), drop.y.push_back(d.dropped);
-      }
-      const double tau_value = std::stod(jsonValue(run, "ratio_threshold").empty() ? "0.7" : jsonValue(run, "ratio_threshold"));
-      tau.x = {0.0, ratio.x.back()};
-      tau.y = {tau_value, tau_value};
-      html += "<h2>Dynamic objects</h2><div class=\"row\">" + svgLinePlot("ratio T over time", "time (s)", "T", {ratio, tau}) +
-              svgLinePlot("boxes per frame", "time (s)", "boxes", {det, pred}) +
-              svgLinePlot("keypoints dropped per frame", "time (s)", "keypoints", {drop}) + "</div>";
-      // Thumbnails with boxes (red detected, orange Kalman-filled).
-      if (fs::is_directory(dataset)) {
-        try {
-          io::TumDataset ds(dataset);
-          std::map<long long, const DynamicLine*> by_stamp;
-          for (const auto& d : dyn) by_stamp[std::llround(d.timestamp * 1e6)] = &d;
-          html += "<div class=\"thumbs\">";
-          const int n = std::min(ds.size(), int(dyn.size()));
-          for (int k = 0; k < 8 && n > 0; ++k) {
-            const int i = int((long long)k * (n - 1) / 7);
-            auto img = ds.load(i);
-            auto it = by_stamp.find(std::llround(img.timestamp * 1e6));
-            if (it != by_stamp.end()) {
-              for (const auto& [box, predicted] : it->second->boxes) {
-                cv::rectangle(img.bgr, box, predicted ? cv::Scalar(0, 165, 255) : cv::Scalar(0, 0, 255), 3);
-              }
-            }
-            cv::Mat small;
-            cv::resize(img.bgr, small, cv::Size(200, 150), 0, 0, cv::INTER_AREA);
-            std::vector<uchar> jpg;
-            cv::imencode(".jpg", small, jpg, {cv::IMWRITE_JPEG_QUALITY, 80});
-            html += fmt::format("<img width=\"200\" height=\"150\" title=\"{:.3f}\" src=\"data:image/jpeg;base64,{}\">",
-                                img.timestamp, base64(jpg));
-          }
-          html += "</div><p>Red: detected boxes; orange: filled in by the Kalman tracker.</p>";
-        } catch (const InputError& e) {
-          html += fmt::format("<p>Thumbnails unavailable: {}</p>", escapeXml(e.what()));
-        }
-      }
-    }
-  }
+  const AccuracySection accuracy = accuracySection(dataset, traj);
+  html += accuracy.rows + "</table>" + accuracy.figures;
+  html += timingSection(dir / "timing.json");
+  html += sceneSection(readPly(dir / "map.ply"), traj, kfs);
+  html += dynamicSection(dir / "dynamic.jsonl", run, dataset);
   html += "<h2>Configuration</h2><pre>" + escapeXml(slurp(dir / "config_used.yaml")) + "</pre>";
   html += std::string("<script>") + kViewerScript + "document.title='tkgslam report ready';</script></body></html>\n";
   const auto path = (dir / "report.html").string();
