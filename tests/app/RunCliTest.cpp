@@ -53,6 +53,12 @@ TEST(RunCli, ConfigUsedHasTheCommandLinesOptionsAndRepeatsTheRun) {
                          &out),
             2);
   EXPECT_NE(out.find("--detector-size: must be a multiple of 32"), std::string::npos) << out;
+  // So is one that would exhaust the memory.
+  EXPECT_EQ(test::runCli("run --mode TKG --detector-size 16384 -c " +
+                             (test::sourceDir() / "configs" / "tum_fr1.yaml").string() + data + (tmp / "c").string(),
+                         &out),
+            2);
+  EXPECT_NE(out.find("from 64 to 2048"), std::string::npos) << out;
 }
 
 TEST(RunCli, FastIsTheTiledLookaheadScheduleAndNeedsAKalmanMode) {

@@ -149,6 +149,13 @@ TEST(YoloDetector, MissingOrMalformedModelIsAClearError) {
     p = params();
     p.input_size = 600;  // not a multiple of 32
     EXPECT_THROW(dynamic::YoloDetector{p}, InputError);
+    p.input_size = 16384;  // a multiple of 32, but would exhaust the memory
+    try {
+      dynamic::YoloDetector d(p);
+      FAIL() << "expected InputError";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("from 64 to 2048"), std::string::npos) << e.what();
+    }
   }
 }
 

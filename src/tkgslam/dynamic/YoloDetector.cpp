@@ -25,8 +25,9 @@ YoloDetector::YoloDetector(const DetectorParams& params) : params_(params) {
   if (!std::filesystem::is_regular_file(params_.model)) {
     throw InputError(fmt::format("detector: model file '{}' does not exist", params_.model));
   }
-  if (params_.input_size < 64 || params_.input_size % 32 != 0) {
-    throw InputError(fmt::format("detector: input size {} must be a multiple of 32 and >= 64", params_.input_size));
+  if (params_.input_size < 64 || params_.input_size > DetectorParams::kMaxInputSize || params_.input_size % 32 != 0) {
+    throw InputError(fmt::format("detector: input size {} must be a multiple of 32 from 64 to {}", params_.input_size,
+                                 DetectorParams::kMaxInputSize));
   }
   if (!(params_.confidence > 0 && params_.confidence < 1) || !(params_.person_confidence > 0 && params_.person_confidence < 1) ||
       !(params_.nms > 0 && params_.nms <= 1)) {
