@@ -152,28 +152,39 @@ std::optional<LoopCloser::Loop> LoopCloser::detect(const std::shared_ptr<KeyFram
     base.kf = kf;
     base.T_cw_map = kf->T_cw();
     base.generation = map_.generation();
-    // Copies of the candidates' best-observed points: matching runs without the lock while
-    // mapping and tracking go on.
     for (const auto& c : candidates) {
-      if (c->bad) continue;
-      // Most observed first; among equals spread over the keypoint list (it is ordered by level
-      // and image cell) by a fixed scrambling of the index.
-      std::vector<std::tuple<int, size_t, size_t>> by_obs;
-      for (size_t i = 0; i < c->map_points.size(); ++i) {
-        const auto& mp = c->map_points[i];
-        if (mp && !mp->bad) by_obs.emplace_back(-int(mp->observations.size()), (i * 7919) % 4093, i);
-      }
-      std::sort(by_obs.begin(), by_obs.end());
-      if (by_obs.size() > kScoringPoints) by_obs.resize(kScoringPoints);
-      auto probe = std::make_unique<KeyFrame>(c->id, c->frame_id, c->timestamp, c->features, c->T_cw());
-      probe->map_points.resize(c->map_points.size());
-      for (const auto& [obs, scrambled, i] : by_obs) probe->map_points[i] = copyOf(*c->map_points[i]);
-      probes.push_back(std::move(probe));
+      if (!c->bad) probes.push_back(scoringProbe(*c));
     }
   }
   if (probes.empty()) return std::nullopt;
   // The matcher and the pose solvers read a Frame's features and never write them.
   const data::Frame frame(kf->frame_id, 0.0, std::const_pointer_cast<data::FrameFeatures>(features));
+  std::optional<Loop> best = bestVerified(frame, probes, base);
+  if (!best) return std::nullopt;
+  ++stats_.detected;
+  return best;
+}
+
+std::unique_ptr<KeyFrame> LoopCloser::scoringProbe(const KeyFrame& c) {
+  // Most observed first; among equals spread over the keypoint list (it is ordered by level
+  // and image cell) by a fixed scrambling of the index.
+  std::vector<std::tuple<int, size_t, size_t>> by_obs;
+  for (size_t i = 0; i < c.map_points.size(); ++i) {
+    const auto& mp = c.map_points[i];
+    if (mp && !mp->bad) by_obs.emplace_back(-int(mp->observations.size()), (i * 7919) % 4093, i);
+  }
+  std::sort(by_obs.begin(), by_obs.end());
+  if (by_obs.size() > kScoringPoints) by_obs.resize(kScoringPoints);
+  auto probe = std::make_unique<KeyFrame>(c.id, c.frame_id, c.timestamp, c.features, c.T_cw());
+  probe->map_points.resize(c.map_points.size());
+  for (const auto& [obs, scrambled, i] : by_obs) probe->map_points[i] = copyOf(*c.map_points[i]);
+  return probe;
+}
+
+std::optional<LoopCloser::Loop> LoopCloser::bestVerified(const data::Frame& frame,
+                                                         const std::vector<std::unique_ptr<KeyFrame>>& probes,
+                                                         const Loop& base) {
+  const KeyFrame& kf = *base.kf;
   // Appearance first: the old keyframes whose points match most of the new keyframe's keypoints.
   std::vector<std::pair<int, size_t>> scored;
   std::vector<std::vector<std::shared_ptr<MapPoint>>> matches(probes.size());
@@ -196,12 +207,12 @@ std::optional<LoopCloser::Loop> LoopCloser::detect(const std::shared_ptr<KeyFram
       for (const auto& mp : pointsAround(*old)) nearby.push_back(copyOf(*mp));
     }
     std::optional<Loop> loop = verify(frame, matches[k], nearby, base);
-    spdlog::debug("keyframe {} (frame {}) against keyframe {}: {} descriptor matches, {} inliers", kf->id,
-                  kf->frame_id, probe.id, -minus_n, loop ? loop->inliers : 0);
+    spdlog::debug("keyframe {} (frame {}) against keyframe {}: {} descriptor matches, {} inliers", kf.id,
+                  kf.frame_id, probe.id, -minus_n, loop ? loop->inliers : 0);
     if (!loop) continue;
     ++stats_.candidates_matched;
     const double shift_m = loop->shiftM(), angle_deg = loop->angleDeg();
-    spdlog::debug("keyframe {}: loop with keyframe {}: {} inliers, the map has it {:.3f} m / {:.2f} deg off", kf->id,
+    spdlog::debug("keyframe {}: loop with keyframe {}: {} inliers, the map has it {:.3f} m / {:.2f} deg off", kf.id,
                   probe.id, loop->inliers, shift_m, angle_deg);
     if (shift_m < cfg_.loop.min_correction_m && angle_deg < cfg_.loop.min_correction_deg) {
       ++stats_.consistent;
@@ -212,8 +223,6 @@ std::optional<LoopCloser::Loop> LoopCloser::detect(const std::shared_ptr<KeyFram
       best->old_id = probe.id;
     }
   }
-  if (!best) return std::nullopt;
-  ++stats_.detected;
   return best;
 }
 
@@ -259,6 +268,26 @@ bool LoopCloser::close(const Loop& loop) {
   const auto old = map_.keyFrame(loop.old_id);
   if (map_.generation() != loop.generation || loop.kf->bad || !old || old->bad) return false;
   const auto nodes = map_.keyFrames();
+  std::optional<optimize::PoseGraph> graph = poseGraphFor(nodes, loop, *old);
+  if (!graph) return false;
+  optimize::PoseGraphOptions opts;
+  opts.iterations = 50;
+  if (!optimize::optimizePoseGraph(*graph, opts)) return false;
+  applyCorrection(nodes, graph->poses);
+  const int fused = fuseOldSide(*loop.kf, *old);
+  map_.noteCorrection();
+  stats_.closed++;
+  stats_.last_correction_m = loop.shiftM();
+  stats_.last_correction_deg = loop.angleDeg();
+  spdlog::info("loop closed: keyframe {} (frame {}) with keyframe {} (frame {}), {} inliers; the map had it {:.3f} m / "
+               "{:.1f} deg off; {} keyframes corrected, {} points fused",
+               loop.kf->id, loop.kf->frame_id, old->id, old->frame_id, loop.inliers, stats_.last_correction_m,
+               stats_.last_correction_deg, nodes.size(), fused);
+  return true;
+}
+
+std::optional<optimize::PoseGraph> LoopCloser::poseGraphFor(const std::vector<std::shared_ptr<KeyFrame>>& nodes,
+                                                            const Loop& loop, const KeyFrame& old) {
   std::map<const KeyFrame*, int> index;
   optimize::PoseGraph graph;
   for (const auto& k : nodes) {
@@ -282,17 +311,17 @@ bool LoopCloser::close(const Loop& loop) {
       if (w >= kCovisibilityEdge && other->id < k->id && other != k->parent && !other->bad) addEdge(k.get(), other, w);
     }
   }
-  const auto ik = index.find(loop.kf.get()), io = index.find(old.get());
-  if (ik == index.end() || io == index.end()) return false;
+  const auto ik = index.find(loop.kf.get()), io = index.find(&old);
+  if (ik == index.end() || io == index.end()) return std::nullopt;
   // The loop edge outweighs any chain of covisibility edges: the measurement is trusted.
-  graph.edges.push_back({ik->second, io->second, loop.T_cw_loop * old->T_wc(), kLoopEdgeWeight});
-  optimize::PoseGraphOptions opts;
-  opts.iterations = 50;
-  if (!optimize::optimizePoseGraph(graph, opts)) return false;
+  graph.edges.push_back({ik->second, io->second, loop.T_cw_loop * old.T_wc(), kLoopEdgeWeight});
+  return graph;
+}
 
+void LoopCloser::applyCorrection(const std::vector<std::shared_ptr<KeyFrame>>& nodes, const std::vector<Pose>& corrected) {
   // Points move with their reference keyframe (or the first observer still in the map).
   std::map<const KeyFrame*, Pose> moved;  // T_new_old of each keyframe's attached points
-  for (size_t k = 0; k < nodes.size(); ++k) moved[nodes[k].get()] = graph.poses[k].inverse() * nodes[k]->T_cw();
+  for (size_t k = 0; k < nodes.size(); ++k) moved[nodes[k].get()] = corrected[k].inverse() * nodes[k]->T_cw();
   for (const auto& mp : map_.mapPoints()) {
     const KeyFrame* ref = mp->reference && moved.count(mp->reference) ? mp->reference : nullptr;
     for (auto it = mp->observations.begin(); !ref && it != mp->observations.end(); ++it) {
@@ -303,12 +332,13 @@ bool LoopCloser::close(const Loop& loop) {
     mp->pos_w = T * mp->pos_w;
     mp->normal = T.linear() * mp->normal;
   }
-  for (size_t k = 0; k < nodes.size(); ++k) nodes[k]->setPose(orthonormalized(graph.poses[k]));
+  for (size_t k = 0; k < nodes.size(); ++k) nodes[k]->setPose(orthonormalized(corrected[k]));
+}
 
-  // The two branches now overlap: fuse the old side's points into the new keyframe's neighbourhood.
-  std::vector<KeyFrame*> targets{loop.kf.get()};
-  for (KeyFrame* n : loop.kf->bestCovisibles(kFuseNeighbours)) targets.push_back(n);
-  const std::vector<std::shared_ptr<MapPoint>> old_points = pointsAround(*old);
+int LoopCloser::fuseOldSide(KeyFrame& kf, const KeyFrame& old) {
+  std::vector<KeyFrame*> targets{&kf};
+  for (KeyFrame* n : kf.bestCovisibles(kFuseNeighbours)) targets.push_back(n);
+  const std::vector<std::shared_ptr<MapPoint>> old_points = pointsAround(old);
   int fused = 0;
   for (KeyFrame* t : targets) {
     if (!t->bad && t->features) fused += matcher_.fuse(map_, *t, old_points);
@@ -316,15 +346,7 @@ bool LoopCloser::close(const Loop& loop) {
   for (KeyFrame* t : targets) {
     if (!t->bad && t->features) t->updateConnections();
   }
-  map_.noteCorrection();
-  stats_.closed++;
-  stats_.last_correction_m = loop.shiftM();
-  stats_.last_correction_deg = loop.angleDeg();
-  spdlog::info("loop closed: keyframe {} (frame {}) with keyframe {} (frame {}), {} inliers; the map had it {:.3f} m / "
-               "{:.1f} deg off; {} keyframes corrected, {} points fused",
-               loop.kf->id, loop.kf->frame_id, old->id, old->frame_id, loop.inliers, stats_.last_correction_m,
-               stats_.last_correction_deg, nodes.size(), fused);
-  return true;
+  return fused;
 }
 
 bool LoopCloser::globalBundleAdjustment() {

@@ -32,6 +32,7 @@
 #include "tkgslam/data/Map.h"
 #include "tkgslam/feature/ScalePyramid.h"
 #include "tkgslam/match/OrbMatcher.h"
+#include "tkgslam/optimize/PoseGraphOptimizer.h"
 #include "tkgslam/optimize/PoseOptimizer.h"
 #include "tkgslam/place/KeyFrameDatabase.h"
 #include "tkgslam/system/SlamConfig.h"
@@ -95,6 +96,14 @@ class LoopCloser {
   /// A copy of a map point's position, descriptor and viewing range (matching runs unlocked).
   static std::shared_ptr<data::MapPoint> copyOf(const data::MapPoint& mp);
   std::optional<Loop> detect(const std::shared_ptr<data::KeyFrame>& kf);
+  /// A copy of old keyframe `c` holding copies of its best-observed points (kScoringPoints), so
+  /// matching against it runs without the lock while mapping and tracking go on (map lock held).
+  static std::unique_ptr<data::KeyFrame> scoringProbe(const data::KeyFrame& c);
+  /// The new keyframe (`frame`, `base.kf`) against the probes: the loop.candidates with the most
+  /// descriptor matches are verified, and of the loops whose correction exceeds the thresholds
+  /// the one with the most inliers is returned. Lock not held while matching.
+  std::optional<Loop> bestVerified(const data::Frame& frame, const std::vector<std::unique_ptr<data::KeyFrame>>& probes,
+                                   const Loop& base);
   /// The new keyframe's pose from its descriptor matches to an old keyframe's points (RANSAC),
   /// refined with the old neighbourhood's points found by projection. Lock not held.
   std::optional<Loop> verify(const data::Frame& frame, const std::vector<std::shared_ptr<data::MapPoint>>& descriptor_matches,
@@ -102,6 +111,17 @@ class LoopCloser {
   /// Two detections agree on the correction (applied at the later keyframe's camera).
   static bool agree(const Loop& a, const Loop& b);
   bool close(const Loop& loop);
+  /// The pose graph of the active keyframes `nodes` (in that order, the first fixed): spanning tree
+  /// and covisibility edges weighted by shared points, plus the loop edge (map lock held). None if
+  /// either end of the loop is not among `nodes`.
+  static std::optional<optimize::PoseGraph> poseGraphFor(const std::vector<std::shared_ptr<data::KeyFrame>>& nodes,
+                                                         const Loop& loop, const data::KeyFrame& old);
+  /// Gives `nodes` their `corrected` poses (T_cw); each point moves with its reference keyframe,
+  /// or the first observer among `nodes` (map lock held).
+  void applyCorrection(const std::vector<std::shared_ptr<data::KeyFrame>>& nodes, const std::vector<Pose>& corrected);
+  /// The two branches overlap after a correction: the old keyframe's neighbourhood's points are
+  /// fused into `kf` and its best covisibles. Returns the points fused (map lock held).
+  int fuseOldSide(data::KeyFrame& kf, const data::KeyFrame& old);
   /// Bundle adjustment over the active keyframes and points (the oldest fixed), after a closure.
   /// Solved without the lock; keyframes and points made meanwhile move with their parent /
   /// reference keyframe. Returns true if written back.
