@@ -350,6 +350,14 @@ int runSlam(const RunOptions& o) {
     throw InputError(
         fmt::format("no frame could be read ({} tried; see {}/frame_log.txt)", events.counts().skipped, o.out));
   }
+  if (o.load_map.empty() && traj.empty() && processed > 0 && !g_interrupted) {
+    // The map never started: an empty trajectory is no result, and the cause is nearly always the depth.
+    throw InputError(fmt::format(
+        "no frame was tracked: none of the {} frames had tracking.min_init_features ({}) keypoints with depth to "
+        "start a map (see {}/frame_log.txt). Check depth.factor ({} raw units per metre), depth.max_depth ({} m) "
+        "and that the depth images are not empty",
+        processed, config.tracking.min_init_features, o.out, config.depth.factor, config.depth.max_depth));
+  }
   if (o.localize && traj.empty() && processed > 0 && !g_interrupted) {
     // Nothing to show for the run: most likely a map of another place (or another sequence's camera).
     throw InputError(fmt::format("--localize: the camera was not found in the map '{}' on any of the {} frames",

@@ -96,6 +96,22 @@ TEST(FaultTolerance, ASequenceWithNoReadableFrameIsAnError) {
   EXPECT_NE(test::readFile(tmp / "out" / "frame_log.txt").find("cannot read"), std::string::npos);
 }
 
+// Images that load but whose depth is empty everywhere (a broken depth stream, a depth format the
+// config does not describe): the map never starts. The run says so and points at the depth.
+TEST(FaultTolerance, ASequenceWhereNoFrameStartsAMapIsAnError) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  writeFaultySequence(
+      tmp / "seq", 4, [](int) { return false; }, [](int) { return FrameFault::None; },
+      [](int) { return FrameFault::NoDepth; });
+  std::string out;
+  EXPECT_EQ(runSequence(tmp.path(), "out", "", out), 2) << out;
+  EXPECT_NE(out.find("no frame was tracked: none of the 4 frames had tracking.min_init_features"), std::string::npos)
+      << out;
+  EXPECT_NE(out.find("Check depth.factor (5000 raw units per metre)"), std::string::npos) << out;
+  EXPECT_NE(test::readFile(tmp / "out" / "frame_log.txt").find("not_initialised"), std::string::npos);
+}
+
 // Heavy motion blur or a hand in front of the lens for a frame or two: the constant-velocity
 // prediction bridges the frames, tracking resumes against the last tracked frame, and the frames
 // are listed as predicted - instead of relocalising (or starting a new map segment) afterwards.
