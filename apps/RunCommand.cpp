@@ -431,7 +431,7 @@ Action addRunCommand(CLI::App& app) {
                   "Boxes cover at least this share: extract ORB again outside them (0 = off; overrides the config)")
       ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--opencv-threads", o->opencv_threads, "OpenCV's thread pool size (0 = default)")
-      ->check(nonNegativeNumber());
+      ->check(CLI::Range(0, SlamConfig::kMaxOpenCvThreads));
   cmd->add_option("--debug-dynamic", o->debug_dynamic,
                   "Write per-frame boxes, T and dropped keypoints as JSON lines to this file");
   return [o] { return runSlam(*o); };

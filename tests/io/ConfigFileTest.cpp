@@ -194,6 +194,30 @@ TEST(ConfigFile, InvalidValuesAreClearErrors) {
   EXPECT_THROW(io::loadConfig("/nonexistent.yaml"), InputError);
 }
 
+// Keys where a negative value (or 0) used to mean "off" without saying so, and a thread count that
+// hung (10^6) or crashed (INT_MAX) OpenCV's pool.
+TEST(ConfigFile, SwitchesAndLimitsOutOfRangeAreClearErrors) {
+  const std::string m = kMinimal;
+  EXPECT_NE(errorOf(m + "tracking: {max_jump_deg: -1}").find("tracking.max_jump_deg and max_jump_m must be >= 0 (0 = off)"),
+            std::string::npos);
+  EXPECT_NE(errorOf(m + "tracking: {max_jump_m: -0.1}").find("max_jump_m must be >= 0"), std::string::npos);
+  EXPECT_NE(errorOf(m + "mapping: {max_keyframe_shift_m: -1}").find("max_keyframe_shift_deg must be >= 0 (0 = off)"),
+            std::string::npos);
+  EXPECT_NE(errorOf(m + "mapping: {max_keyframe_shift_deg: -2}").find("max_keyframe_shift_deg must be >= 0"),
+            std::string::npos);
+  EXPECT_NE(errorOf(m + "dynamic: {reference_max_depth: 0}").find("reference_max_depth and current_max_depth must be > 0"),
+            std::string::npos);
+  EXPECT_NE(errorOf(m + "dynamic: {current_max_depth: -1}").find("current_max_depth must be > 0"), std::string::npos);
+  EXPECT_NE(errorOf(m + "dynamic: {max_patch_std: 0}").find("dynamic.max_patch_std must be > 0"), std::string::npos);
+  EXPECT_NE(errorOf(m + "system: {opencv_threads: 1000000}").find("system.opencv_threads must be in [0, 256]"),
+            std::string::npos);
+  EXPECT_NE(errorOf(m + "system: {opencv_threads: -1}").find("opencv_threads must be in [0, 256]"), std::string::npos);
+  // The edges of the ranges are accepted.
+  const auto c = io::parseConfig(m + "tracking: {max_jump_deg: 0, max_jump_m: 0}\nsystem: {opencv_threads: 256}", "t");
+  EXPECT_EQ(c.opencv_threads, 256);
+  EXPECT_DOUBLE_EQ(c.tracking.max_jump_deg, 0);
+}
+
 // yaml-cpp returns the first of two equal keys: a value appended to override one above (the usual
 // way to try a setting) would be ignored. Both a key and a section written twice are refused.
 TEST(ConfigFile, AKeyOrSectionSetTwiceIsAnErrorNotTheFirstValueSilently) {

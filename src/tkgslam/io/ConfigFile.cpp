@@ -216,6 +216,118 @@ void forEachKey(Config& c, Visit&& key) {
   key("system", "opencv_threads", c.opencv_threads, false);
 }
 
+// Range checks, one function per section; each throws InputError "<source>: <what>".
+
+void checkCameraDepthOrb(const SlamConfig& c, const std::string& source) {
+  try {
+    camera::PinholeCamera check(c.camera);
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}", source, e.what()));
+  }
+  require(c.depth.factor > 0, source, "depth.factor must be > 0");
+  require(c.depth.baseline_fx > 0, source, "depth.baseline_fx must be > 0");
+  require(c.depth.close_threshold > 0, source, "depth.close_threshold must be > 0");
+  require(c.depth.max_depth > 0, source, "depth.max_depth must be > 0");
+  try {
+    feature::OrbExtractor check(c.orb);
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}", source, e.what()));
+  }
+}
+
+void checkTracking(const TrackingParams& t, const std::string& source) {
+  require(t.min_init_features >= 10, source, "tracking.min_init_features must be >= 10");
+  require(t.min_tracked_inliers >= 6, source, "tracking.min_tracked_inliers must be >= 6");
+  require(t.max_frames_between_keyframes >= 0, source, "tracking.max_frames_between_keyframes must be >= 0");
+  require(t.relocalization_attempts >= 0, source, "tracking.relocalization_attempts must be >= 0");
+  require(t.relocalization_candidates >= 0, source,
+          "tracking.relocalization_candidates must be >= 0 (0 = every keyframe)");
+  require(t.max_predicted_frames >= 0 && t.max_predicted_frames <= 30, source,
+          "tracking.max_predicted_frames must be in [0, 30]");
+  require(t.blur_ratio >= 0 && t.blur_ratio < 1, source, "tracking.blur_ratio must be in [0, 1)");
+  require(t.max_jump_deg >= 0 && t.max_jump_m >= 0, source,
+          "tracking.max_jump_deg and max_jump_m must be >= 0 (0 = off)");
+  require(t.covered_ratio > 0, source, "tracking.covered_ratio must be > 0 (> 1 = off)");
+  require(t.min_rescued_inliers >= 0, source, "tracking.min_rescued_inliers must be >= 0 (0 = off)");
+  require(t.pose_check_m >= 0, source, "tracking.pose_check_m must be >= 0 (0 = off)");
+  require(t.excursion_m >= 0, source, "tracking.excursion_m must be >= 0 (0 = off)");
+}
+
+void checkMapping(const MappingParams& m, const std::string& source) {
+  require(m.local_ba_iterations >= 0, source, "mapping.local_ba_iterations must be >= 0");
+  require(m.covisible_keyframes >= 1, source, "mapping.covisible_keyframes must be >= 1");
+  require(m.keyframe_redundancy > 0 && m.keyframe_redundancy <= 1, source,
+          "mapping.keyframe_redundancy must be in (0, 1]");
+  require(m.max_keyframe_shift_m >= 0 && m.max_keyframe_shift_deg >= 0, source,
+          "mapping.max_keyframe_shift_m and max_keyframe_shift_deg must be >= 0 (0 = off)");
+}
+
+void checkLoop(const LoopParams& l, const std::string& source) {
+  require(l.min_inliers >= 10, source, "loop.min_inliers must be >= 10");
+  require(l.confirm_within >= 1, source, "loop.confirm_within must be >= 1 (1 = the next keyframe only)");
+  require(l.min_keyframe_gap >= 1, source, "loop.min_keyframe_gap must be >= 1");
+  require(l.candidates >= 1, source, "loop.candidates must be >= 1");
+  require(l.word_candidates >= 0, source, "loop.word_candidates must be >= 0 (0 = every candidate)");
+  require(l.min_correction_m >= 0, source, "loop.min_correction_m must be >= 0");
+  require(l.min_correction_deg >= 0, source, "loop.min_correction_deg must be >= 0");
+  require(l.global_ba_iterations >= 0, source, "loop.global_ba_iterations must be >= 0");
+}
+
+/// The object mask's options (dynamic.object_*).
+void checkObjectMask(const DynamicParams& d, const std::string& source) {
+  const auto& o = d.object;
+  require(o.behind >= 0, source, "dynamic.object_behind must be >= 0 (m)");
+  require(o.behind_per_size >= 0, source, "dynamic.object_behind_per_size must be >= 0");
+  require(!o.colour || d.object_mask, source,
+          "dynamic.object_colour needs dynamic.object_mask: true (it refines the object mask)");
+  require(!o.region || d.object_mask, source,
+          "dynamic.object_region needs dynamic.object_mask: true (it refines the object mask)");
+  require(!(o.region && o.colour), source,
+          "dynamic.object_region and dynamic.object_colour are two ways to segment the object: choose one");
+  require(o.region_step > 0 && o.region_step <= 1, source,
+          "dynamic.object_region_step must be in (0, 1] (a share of the depth)");
+  require(o.radius >= 0 && o.radius <= 64, source, "dynamic.object_radius must be in [0, 64] px");
+}
+
+/// The multi-view-geometry check's options (ratio threshold, references, occlusion, unboxed check).
+void checkGeometry(const dynamic::GeometryParams& g, const std::string& source) {
+  require(g.ratio_threshold >= 0 && g.ratio_threshold <= 1, source, "dynamic.ratio_threshold must be in [0, 1]");
+  require(g.reference_keyframes >= 1, source, "dynamic.reference_keyframes must be >= 1");
+  require(g.reference_max_depth > 0 && g.current_max_depth > 0, source,
+          "dynamic.reference_max_depth and current_max_depth must be > 0 (m)");
+  require(g.occlusion_threshold > 0, source, "dynamic.occlusion_threshold must be > 0");
+  require(g.patch_radius >= 0 && g.patch_radius <= 20, source, "dynamic.patch_radius must be in [0, 20]");
+  require(g.max_patch_std > 0, source, "dynamic.max_patch_std must be > 0 (m)");
+  require(g.region_depth_step > 0, source, "dynamic.region_depth_step must be > 0");
+  require(g.max_parallax_deg > 0 && g.max_parallax_deg <= 180, source, "dynamic.max_parallax_deg must be in (0, 180]");
+  require(g.occluder_radius >= 0 && g.occluder_radius <= 64, source, "dynamic.occluder_radius must be in [0, 64] px");
+  require(g.occluder_depth >= 0, source, "dynamic.occluder_depth must be >= 0 (m)");
+  require(g.unboxed_min_evidence >= 1, source, "dynamic.unboxed_min_evidence must be >= 1");
+  require(g.unboxed_depth_range > 0, source, "dynamic.unboxed_depth_range must be > 0");
+  require(g.unboxed_min_hidden >= 0 && g.unboxed_min_hidden <= 1, source,
+          "dynamic.unboxed_min_hidden must be in [0, 1]");
+}
+
+void checkDynamic(const DynamicParams& d, const std::string& source) {
+  require(d.box_flow == "auto" || d.box_flow == "on" || d.box_flow == "off", source,
+          "dynamic.box_flow must be auto, on or off");
+  require(d.detect_every >= 1, source, "dynamic.detect_every must be >= 1");
+  require(d.box_margin >= 0 && d.box_margin <= 0.5, source, "dynamic.box_margin must be in [0, 0.5]");
+  require(d.refill_ratio >= 0 && d.refill_ratio <= 1, source, "dynamic.refill_ratio must be in [0, 1]");
+  require(d.detector_tiles >= 1 && d.detector_tiles <= 9, source, "dynamic.detector_tiles must be in [1, 9]");
+  require(d.detector_tiles == 1 || d.lookahead, source,
+          "dynamic.detector_tiles > 1 needs dynamic.lookahead: true (the tiles are frames still to be tracked)");
+  require(d.detector_latency >= 0 && d.detector_latency <= d.detect_every * d.detector_tiles, source,
+          "dynamic.detector_latency must be in [0, detect_every x detector_tiles]");
+  const auto& t = d.tracker;
+  require(t.kalman.q > 0 && t.kalman.r > 0, source, "dynamic.kalman_q and kalman_r must be > 0");
+  require(t.iou_gate >= 0 && t.iou_gate < 1, source, "dynamic.iou_gate must be in [0, 1)");
+  require(t.centre_gate >= 0 && t.centre_gate_max >= 0, source, "dynamic.centre_gate and centre_gate_max must be >= 0");
+  require(t.max_age >= 0, source, "dynamic.max_age must be >= 0");
+  checkObjectMask(d, source);
+  checkGeometry(d.geometry, source);
+}
+
 // Reading one key: most types as they are; the distortion as a list of 4 or 5, the mode by name.
 template <typename T>
 void readKey(Section& s, const std::string& key, T& value, bool required) {
@@ -295,95 +407,19 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
   });
   for (const auto& [name, s] : sections) s.checkNoUnknownKeys();
 
-  try {
-    camera::PinholeCamera check(c.camera);
-  } catch (const InputError& e) {
-    throw InputError(fmt::format("{}: {}", source, e.what()));
-  }
-  require(c.depth.factor > 0, source, "depth.factor must be > 0");
-  require(c.depth.baseline_fx > 0, source, "depth.baseline_fx must be > 0");
-  require(c.depth.close_threshold > 0, source, "depth.close_threshold must be > 0");
-  require(c.depth.max_depth > 0, source, "depth.max_depth must be > 0");
-  try {
-    feature::OrbExtractor check(c.orb);
-  } catch (const InputError& e) {
-    throw InputError(fmt::format("{}: {}", source, e.what()));
-  }
-  require(c.tracking.min_init_features >= 10, source, "tracking.min_init_features must be >= 10");
-  require(c.tracking.min_tracked_inliers >= 6, source, "tracking.min_tracked_inliers must be >= 6");
-  require(c.tracking.max_frames_between_keyframes >= 0, source,
-          "tracking.max_frames_between_keyframes must be >= 0");
-  require(c.tracking.relocalization_attempts >= 0, source, "tracking.relocalization_attempts must be >= 0");
-  require(c.tracking.relocalization_candidates >= 0, source,
-          "tracking.relocalization_candidates must be >= 0 (0 = every keyframe)");
-  require(c.tracking.max_predicted_frames >= 0 && c.tracking.max_predicted_frames <= 30, source,
-          "tracking.max_predicted_frames must be in [0, 30]");
-  require(c.tracking.blur_ratio >= 0 && c.tracking.blur_ratio < 1, source, "tracking.blur_ratio must be in [0, 1)");
-  require(c.tracking.covered_ratio > 0, source, "tracking.covered_ratio must be > 0 (> 1 = off)");
-  require(c.tracking.min_rescued_inliers >= 0, source, "tracking.min_rescued_inliers must be >= 0 (0 = off)");
-  require(c.tracking.pose_check_m >= 0, source, "tracking.pose_check_m must be >= 0 (0 = off)");
-  require(c.tracking.excursion_m >= 0, source, "tracking.excursion_m must be >= 0 (0 = off)");
-  require(c.mapping.local_ba_iterations >= 0, source, "mapping.local_ba_iterations must be >= 0");
-  require(c.mapping.covisible_keyframes >= 1, source, "mapping.covisible_keyframes must be >= 1");
-  require(c.mapping.keyframe_redundancy > 0 && c.mapping.keyframe_redundancy <= 1, source,
-          "mapping.keyframe_redundancy must be in (0, 1]");
-  require(c.loop.min_inliers >= 10, source, "loop.min_inliers must be >= 10");
-  require(c.loop.confirm_within >= 1, source, "loop.confirm_within must be >= 1 (1 = the next keyframe only)");
-  require(c.loop.min_keyframe_gap >= 1, source, "loop.min_keyframe_gap must be >= 1");
-  require(c.loop.candidates >= 1, source, "loop.candidates must be >= 1");
-  require(c.loop.word_candidates >= 0, source, "loop.word_candidates must be >= 0 (0 = every candidate)");
-  require(c.loop.min_correction_m >= 0, source, "loop.min_correction_m must be >= 0");
-  require(c.loop.min_correction_deg >= 0, source, "loop.min_correction_deg must be >= 0");
-  require(c.loop.global_ba_iterations >= 0, source, "loop.global_ba_iterations must be >= 0");
-  auto& d = c.dynamic.detector;
-  c.dynamic.object.focal_px = c.camera.fy;  // box sizes (px) to metres
-  const auto& t = c.dynamic.tracker;
-  const auto& g = c.dynamic.geometry;
+  checkCameraDepthOrb(c, source);
+  checkTracking(c.tracking, source);
+  checkMapping(c.mapping, source);
+  checkLoop(c.loop, source);
   // A relative model path is relative to the config file's folder.
-  if (!d.model.empty() && std::filesystem::path(d.model).is_relative()) {
-    d.model = (std::filesystem::path(source).parent_path() / d.model).lexically_normal().string();
+  auto& model = c.dynamic.detector.model;
+  if (!model.empty() && std::filesystem::path(model).is_relative()) {
+    model = (std::filesystem::path(source).parent_path() / model).lexically_normal().string();
   }
-  require(c.dynamic.box_flow == "auto" || c.dynamic.box_flow == "on" || c.dynamic.box_flow == "off", source,
-          "dynamic.box_flow must be auto, on or off");
-  require(c.dynamic.detect_every >= 1, source, "dynamic.detect_every must be >= 1");
-  require(g.occluder_radius >= 0 && g.occluder_radius <= 64, source, "dynamic.occluder_radius must be in [0, 64] px");
-  require(g.occluder_depth >= 0, source, "dynamic.occluder_depth must be >= 0 (m)");
-  require(g.unboxed_min_evidence >= 1, source, "dynamic.unboxed_min_evidence must be >= 1");
-  require(g.unboxed_depth_range > 0, source, "dynamic.unboxed_depth_range must be > 0");
-  require(g.unboxed_min_hidden >= 0 && g.unboxed_min_hidden <= 1, source,
-          "dynamic.unboxed_min_hidden must be in [0, 1]");
-  require(c.dynamic.box_margin >= 0 && c.dynamic.box_margin <= 0.5, source, "dynamic.box_margin must be in [0, 0.5]");
-  require(c.dynamic.object.behind >= 0, source, "dynamic.object_behind must be >= 0 (m)");
-  require(c.dynamic.object.behind_per_size >= 0, source, "dynamic.object_behind_per_size must be >= 0");
-  require(!c.dynamic.object.colour || c.dynamic.object_mask, source,
-          "dynamic.object_colour needs dynamic.object_mask: true (it refines the object mask)");
-  require(!c.dynamic.object.region || c.dynamic.object_mask, source,
-          "dynamic.object_region needs dynamic.object_mask: true (it refines the object mask)");
-  require(!(c.dynamic.object.region && c.dynamic.object.colour), source,
-          "dynamic.object_region and dynamic.object_colour are two ways to segment the object: choose one");
-  require(c.dynamic.object.region_step > 0 && c.dynamic.object.region_step <= 1, source,
-          "dynamic.object_region_step must be in (0, 1] (a share of the depth)");
-  require(c.dynamic.object.radius >= 0 && c.dynamic.object.radius <= 64, source,
-          "dynamic.object_radius must be in [0, 64] px");
-  require(c.dynamic.refill_ratio >= 0 && c.dynamic.refill_ratio <= 1, source, "dynamic.refill_ratio must be in [0, 1]");
-  require(c.dynamic.detector_tiles >= 1 && c.dynamic.detector_tiles <= 9, source,
-          "dynamic.detector_tiles must be in [1, 9]");
-  require(c.dynamic.detector_tiles == 1 || c.dynamic.lookahead, source,
-          "dynamic.detector_tiles > 1 needs dynamic.lookahead: true (the tiles are frames still to be tracked)");
-  require(c.dynamic.detector_latency >= 0 &&
-              c.dynamic.detector_latency <= c.dynamic.detect_every * c.dynamic.detector_tiles,
-          source, "dynamic.detector_latency must be in [0, detect_every x detector_tiles]");
-  require(t.kalman.q > 0 && t.kalman.r > 0, source, "dynamic.kalman_q and kalman_r must be > 0");
-  require(t.iou_gate >= 0 && t.iou_gate < 1, source, "dynamic.iou_gate must be in [0, 1)");
-  require(t.centre_gate >= 0 && t.centre_gate_max >= 0, source, "dynamic.centre_gate and centre_gate_max must be >= 0");
-  require(t.max_age >= 0, source, "dynamic.max_age must be >= 0");
-  require(g.ratio_threshold >= 0 && g.ratio_threshold <= 1, source, "dynamic.ratio_threshold must be in [0, 1]");
-  require(g.reference_keyframes >= 1, source, "dynamic.reference_keyframes must be >= 1");
-  require(g.occlusion_threshold > 0, source, "dynamic.occlusion_threshold must be > 0");
-  require(g.patch_radius >= 0 && g.patch_radius <= 20, source, "dynamic.patch_radius must be in [0, 20]");
-  require(g.region_depth_step > 0, source, "dynamic.region_depth_step must be > 0");
-  require(g.max_parallax_deg > 0 && g.max_parallax_deg <= 180, source, "dynamic.max_parallax_deg must be in (0, 180]");
-  require(c.opencv_threads >= 0, source, "system.opencv_threads must be >= 0");
+  c.dynamic.object.focal_px = c.camera.fy;  // box sizes (px) to metres
+  checkDynamic(c.dynamic, source);
+  require(c.opencv_threads >= 0 && c.opencv_threads <= SlamConfig::kMaxOpenCvThreads, source,
+          fmt::format("system.opencv_threads must be in [0, {}] (0 = OpenCV's default)", SlamConfig::kMaxOpenCvThreads));
 
   return c;
 }

@@ -166,6 +166,8 @@ struct SlamConfig {
   /// Threads of OpenCV's own pool (process-wide: cv::setNumThreads); 0 = OpenCV's default. 1 keeps
   /// an asynchronous detector on one core, leaving the other to tracking and mapping.
   int opencv_threads = 0;
+  /// Largest opencv_threads accepted (a million made the thread pool hang, INT_MAX crash).
+  static constexpr int kMaxOpenCvThreads = 256;
 };
 
 }  // namespace tkgslam
