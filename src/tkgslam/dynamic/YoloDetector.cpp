@@ -14,6 +14,119 @@
 
 namespace tkgslam::dynamic {
 
+namespace {
+
+/// Where one image sits in the network input: scale and top-left corner (input pixels).
+struct Placement {
+  float r;
+  int x0, y0;
+};
+
+/// The network input: grid x grid cells of `cell` pixels from `origin`, each holding one image
+/// letterboxed (grey 114 around, as YOLOv5 trains).
+struct TiledInput {
+  int grid = 1;
+  cv::Size cell;
+  cv::Point origin;
+  cv::Mat input;
+  std::vector<Placement> place;  ///< per image
+};
+
+/// The images fill a grid x grid block of equal cells: square cells in an S x S input, or with
+/// `fit`, cells of the images' aspect ratio (S / grid on the long side), the input rounded up to
+/// multiples of 32.
+TiledInput tileImages(const std::vector<cv::Mat>& images, int S, bool fit) {
+  TiledInput t;
+  t.grid = int(std::ceil(std::sqrt(double(images.size()) - 1e-9)));
+  const int grid = t.grid;
+  t.cell = cv::Size(S / grid, S / grid);
+  cv::Size input_size(S, S);
+  if (fit) {
+    t.cell = cv::Size(0, 0);
+    for (const auto& bgr : images) {
+      const double r = double(S) / grid / std::max(bgr.cols, bgr.rows);
+      t.cell.width = std::max({t.cell.width, 1, int(std::lround(bgr.cols * r))});
+      t.cell.height = std::max({t.cell.height, 1, int(std::lround(bgr.rows * r))});
+    }
+    const auto roundUp = [](int v) { return (v + 31) / 32 * 32; };
+    input_size = cv::Size(roundUp(grid * t.cell.width), roundUp(grid * t.cell.height));
+  }
+  t.origin = cv::Point((input_size.width - grid * t.cell.width) / 2, (input_size.height - grid * t.cell.height) / 2);
+  t.input = cv::Mat(input_size, CV_8UC3, cv::Scalar(114, 114, 114));
+  for (size_t i = 0; i < images.size(); ++i) {
+    const cv::Mat& bgr = images[i];
+    const float r = std::min(float(t.cell.width) / bgr.cols, float(t.cell.height) / bgr.rows);
+    const int nw = std::max(1, int(std::lround(bgr.cols * r))), nh = std::max(1, int(std::lround(bgr.rows * r)));
+    const int cx = t.origin.x + int(i % grid) * t.cell.width, cy = t.origin.y + int(i / grid) * t.cell.height;
+    const Placement pl{r, cx + (t.cell.width - nw) / 2, cy + (t.cell.height - nh) / 2};
+    cv::resize(bgr, t.input(cv::Rect(pl.x0, pl.y0, nw, nh)), cv::Size(nw, nh), 0, 0, cv::INTER_LINEAR);
+    t.place.push_back(pl);
+  }
+  return t;
+}
+
+/// One image's candidate boxes (image pixels) and scores, per class id.
+struct ClassCandidates {
+  std::vector<std::vector<cv::Rect2d>> boxes;
+  std::vector<std::vector<float>> scores;
+};
+
+/// The network's rows (cx, cy, w, h, objectness, class scores; input pixels) above the score
+/// thresholds, of the wanted classes, given to the image whose cell holds the box centre.
+std::vector<ClassCandidates> decodeRows(const cv::Mat& out, const TiledInput& t, const DetectorParams& p,
+                                        const std::vector<char>& wanted) {
+  const int rows = out.size[1], cols = out.size[2];
+  const int num_classes = cols - 5;
+  const float min_conf = std::min(p.confidence, p.person_confidence);
+  std::vector<ClassCandidates> per_image(t.place.size(), {std::vector<std::vector<cv::Rect2d>>(num_classes),
+                                                          std::vector<std::vector<float>>(num_classes)});
+  const float* data = out.ptr<float>();
+  for (int i = 0; i < rows; ++i) {
+    const float* row = data + size_t(i) * cols;
+    const float obj = row[4];
+    if (obj < min_conf) continue;
+    const float* cls = row + 5;
+    const int best = int(std::max_element(cls, cls + num_classes) - cls);
+    if (!wanted[best]) continue;
+    const float score = obj * cls[best];
+    if (score < (best == 0 ? p.person_confidence : p.confidence)) continue;
+    const int gx = std::clamp(int(std::floor((row[0] - t.origin.x) / t.cell.width)), 0, t.grid - 1);
+    const int gy = std::clamp(int(std::floor((row[1] - t.origin.y) / t.cell.height)), 0, t.grid - 1);
+    const size_t img = size_t(gy * t.grid + gx);
+    if (img >= t.place.size()) continue;
+    const Placement& pl = t.place[img];
+    const float x = (row[0] - 0.5f * row[2] - pl.x0) / pl.r, y = (row[1] - 0.5f * row[3] - pl.y0) / pl.r;
+    per_image[img].boxes[best].emplace_back(x, y, row[2] / pl.r, row[3] / pl.r);
+    per_image[img].scores[best].push_back(score);
+  }
+  return per_image;
+}
+
+/// Non-maximum suppression per class, boxes clipped to the image; best score first (ties: left first).
+std::vector<Detection> suppress(const ClassCandidates& c, cv::Size image, float nms) {
+  std::vector<Detection> dets;
+  const cv::Rect2f frame(0, 0, float(image.width), float(image.height));
+  for (size_t id = 0; id < c.boxes.size(); ++id) {
+    if (c.boxes[id].empty()) continue;
+    std::vector<int> keep;
+    cv::dnn::NMSBoxes(c.boxes[id], c.scores[id], 0.0f, nms, keep);
+    for (int k : keep) {
+      Detection d;
+      d.box = cv::Rect2f(c.boxes[id][k]) & frame;
+      d.class_id = int(id);
+      d.score = c.scores[id][k];
+      if (d.box.area() > 0) dets.push_back(d);
+    }
+  }
+  std::sort(dets.begin(), dets.end(), [](const Detection& a, const Detection& b) {
+    if (a.score != b.score) return a.score > b.score;
+    return a.box.x < b.box.x;
+  });
+  return dets;
+}
+
+}  // namespace
+
 std::vector<int> defaultDynamicClasses() {
   // person; bicycle car motorcycle airplane bus train truck boat; bird cat dog horse sheep cow
   // elephant bear zebra giraffe.
@@ -95,91 +208,18 @@ std::vector<std::vector<Detection>> YoloDetector::detectTiles(const std::vector<
   for (const auto& bgr : images) {
     if (bgr.empty() || bgr.type() != CV_8UC3) throw InputError("detector: expects 8-bit BGR images");
   }
-  const int S = params_.input_size;
-  const int grid = int(std::ceil(std::sqrt(double(images.size()) - 1e-9)));
-  // The images fill a grid x grid block of equal cells: square cells in an S x S input, or cells
-  // of the images' aspect ratio (S / grid on the long side) when the input can be fitted.
-  cv::Size cell(S / grid, S / grid), input_size(S, S);
-  if (params_.fit_input && export_size_ > 0) {
-    cell = cv::Size(0, 0);
-    for (const auto& bgr : images) {
-      const double r = double(S) / grid / std::max(bgr.cols, bgr.rows);
-      cell.width = std::max({cell.width, 1, int(std::lround(bgr.cols * r))});
-      cell.height = std::max({cell.height, 1, int(std::lround(bgr.rows * r))});
-    }
-    const auto roundUp = [](int v) { return (v + 31) / 32 * 32; };
-    input_size = cv::Size(roundUp(grid * cell.width), roundUp(grid * cell.height));
-  }
-  const cv::Point origin((input_size.width - grid * cell.width) / 2, (input_size.height - grid * cell.height) / 2);
-  // Each image letterboxed into its cell of the network input.
-  struct Placement {
-    float r;
-    int x0, y0;  // the image's top-left corner in the input
-  };
-  std::vector<Placement> place;
-  cv::Mat input(input_size, CV_8UC3, cv::Scalar(114, 114, 114));
-  for (size_t i = 0; i < images.size(); ++i) {
-    const cv::Mat& bgr = images[i];
-    const float r = std::min(float(cell.width) / bgr.cols, float(cell.height) / bgr.rows);
-    const int nw = std::max(1, int(std::lround(bgr.cols * r))), nh = std::max(1, int(std::lround(bgr.rows * r)));
-    const int cx = origin.x + int(i % grid) * cell.width, cy = origin.y + int(i / grid) * cell.height;
-    const Placement pl{r, cx + (cell.width - nw) / 2, cy + (cell.height - nh) / 2};
-    cv::resize(bgr, input(cv::Rect(pl.x0, pl.y0, nw, nh)), cv::Size(nw, nh), 0, 0, cv::INTER_LINEAR);
-    place.push_back(pl);
-  }
+  const TiledInput tiled = tileImages(images, params_.input_size, params_.fit_input && export_size_ > 0);
   cv::Mat out;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    prepareNet(input_size);
-    net_.setInput(cv::dnn::blobFromImage(input, 1.0 / 255.0, cv::Size(), cv::Scalar(), true, false));
+    prepareNet(tiled.input.size());
+    net_.setInput(cv::dnn::blobFromImage(tiled.input, 1.0 / 255.0, cv::Size(), cv::Scalar(), true, false));
     out = net_.forward();
   }
-  const int rows = out.size[1], cols = out.size[2];
-  const int num_classes = cols - 5;
-  const float min_conf = std::min(params_.confidence, params_.person_confidence);
-  // [image][class] candidate boxes (image pixels) and scores.
-  std::vector<std::vector<std::vector<cv::Rect2d>>> boxes(images.size(), std::vector<std::vector<cv::Rect2d>>(num_classes));
-  std::vector<std::vector<std::vector<float>>> scores(images.size(), std::vector<std::vector<float>>(num_classes));
-  const float* data = out.ptr<float>();
-  for (int i = 0; i < rows; ++i) {
-    const float* row = data + size_t(i) * cols;
-    const float obj = row[4];
-    if (obj < min_conf) continue;
-    const float* cls = row + 5;
-    const int best = int(std::max_element(cls, cls + num_classes) - cls);
-    if (!wanted_[best]) continue;
-    const float score = obj * cls[best];
-    if (score < (best == 0 ? params_.person_confidence : params_.confidence)) continue;
-    // The cell that holds the box centre says which image it belongs to.
-    const int gx = std::clamp(int(std::floor((row[0] - origin.x) / cell.width)), 0, grid - 1);
-    const int gy = std::clamp(int(std::floor((row[1] - origin.y) / cell.height)), 0, grid - 1);
-    const size_t img = size_t(gy * grid + gx);
-    if (img >= images.size()) continue;
-    const Placement& pl = place[img];
-    const float x = (row[0] - 0.5f * row[2] - pl.x0) / pl.r, y = (row[1] - 0.5f * row[3] - pl.y0) / pl.r;
-    boxes[img][best].emplace_back(x, y, row[2] / pl.r, row[3] / pl.r);
-    scores[img][best].push_back(score);
-  }
+  const auto candidates = decodeRows(out, tiled, params_, wanted_);
   std::vector<std::vector<Detection>> result(images.size());
   for (size_t img = 0; img < images.size(); ++img) {
-    auto& dets = result[img];
-    const cv::Rect2f frame(0, 0, float(images[img].cols), float(images[img].rows));
-    for (int c = 0; c < num_classes; ++c) {
-      if (boxes[img][c].empty()) continue;
-      std::vector<int> keep;
-      cv::dnn::NMSBoxes(boxes[img][c], scores[img][c], 0.0f, params_.nms, keep);
-      for (int k : keep) {
-        Detection d;
-        d.box = cv::Rect2f(boxes[img][c][k]) & frame;
-        d.class_id = c;
-        d.score = scores[img][c][k];
-        if (d.box.area() > 0) dets.push_back(d);
-      }
-    }
-    std::sort(dets.begin(), dets.end(), [](const Detection& a, const Detection& b) {
-      if (a.score != b.score) return a.score > b.score;
-      return a.box.x < b.box.x;
-    });
+    result[img] = suppress(candidates[img], images[img].size(), params_.nms);
   }
   return result;
 }
