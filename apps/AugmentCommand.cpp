@@ -18,6 +18,7 @@ struct AugmentCliOptions {
 };
 
 int runAugment(const AugmentCliOptions& o) {
+  augment::checkAugmentOptions(o.options);  // before the minutes spent cutting people out
   const SlamConfig config = io::loadConfig(o.config);
   io::TumDatasetOptions dopt;
   dopt.depth_factor = config.depth.factor;

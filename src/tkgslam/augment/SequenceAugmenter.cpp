@@ -41,14 +41,19 @@ void writeImage(const fs::path& p, const cv::Mat& img, const std::vector<int>& p
 
 }  // namespace
 
+void checkAugmentOptions(const AugmentOptions& o) {
+  if (o.people < 1 || !(o.min_size > 0 && o.min_size <= o.max_size && o.max_size <= 1.5)) {
+    throw InputError(fmt::format("augment: need people >= 1 and 0 < min_size <= max_size <= 1.5 (got --count {}, --min-size {}, --max-size {})",
+                                 o.people, o.min_size, o.max_size));
+  }
+}
+
 AugmentStats augmentSequence(const io::TumDataset& ds, const std::vector<io::TrajectoryEntry>& gt,
                              const std::vector<PersonCutout>& cutouts, const camera::PinholeCamera& cam,
                              double depth_factor, const std::string& out_dir, const AugmentOptions& o) {
   if (gt.size() < 2) throw InputError("augment: the dataset needs a ground-truth trajectory");
   if (cutouts.empty()) throw InputError("augment: no person cut-outs");
-  if (o.people < 1 || !(o.min_size > 0 && o.min_size <= o.max_size && o.max_size <= 1.5)) {
-    throw InputError("augment: need people >= 1 and 0 < min_size <= max_size <= 1.5");
-  }
+  checkAugmentOptions(o);
   const fs::path out(out_dir);
   for (const char* sub : {"rgb", "depth", "masks"}) io::createOutputFolder((out / sub).string());
   std::vector<double> gt_stamps;

@@ -44,7 +44,11 @@ struct AugmentStats {
   std::vector<int> person_cutouts;
 };
 
-/// Writes the composite sequence to `out_dir`. Throws InputError on I/O problems.
+/// Throws InputError unless people >= 1 and 0 < min_size <= max_size <= 1.5.
+void checkAugmentOptions(const AugmentOptions& options);
+
+/// Writes the composite sequence to `out_dir`. Throws InputError on invalid options (as
+/// checkAugmentOptions) and I/O problems.
 AugmentStats augmentSequence(const io::TumDataset& dataset, const std::vector<io::TrajectoryEntry>& ground_truth,
                              const std::vector<PersonCutout>& cutouts, const camera::PinholeCamera& camera,
                              double depth_factor, const std::string& out_dir, const AugmentOptions& options);
