@@ -166,20 +166,18 @@ io::TumDataset openDataset(const RunOptions& o, const SlamConfig& config) {
   return dataset;
 }
 
-/// Refuses map options that do not go together now, not after the run.
-void checkMapOptions(const RunOptions& o) {
+/// Refuses map options that do not go together, and output files that could not be written, now,
+/// not after the run.
+void checkOptionsBeforeRun(const RunOptions& o) {
   if (o.localize && o.load_map.empty()) {
     throw InputError("--localize tracks in a saved map: give it with --load-map");
   }
   if (o.localize && !o.save_map.empty()) {
     throw InputError("--localize leaves the loaded map as it is: there is nothing new for --save-map to save");
   }
-  if (!o.save_map.empty()) {
-    const auto dir = std::filesystem::absolute(o.save_map).parent_path();
-    if (!std::filesystem::is_directory(dir)) {
-      throw InputError(fmt::format("--save-map '{}': folder '{}' does not exist", o.save_map, dir.string()));
-    }
-  }
+  // Found out before the run, not after it.
+  if (!o.save_map.empty()) io::checkWritableFile(o.save_map, "--save-map");
+  if (!o.debug_dynamic.empty()) io::checkWritableFile(o.debug_dynamic, "--debug-dynamic");
 }
 
 /// Writes what the run built into the output folder (and the map file), and the keypoint
@@ -283,7 +281,7 @@ void writeSummary(const RunOptions& o, const SlamConfig& config, const SlamSyste
 int runSlam(const RunOptions& o) {
   const SlamConfig config = configFor(o);
   io::TumDataset dataset = openDataset(o, config);
-  checkMapOptions(o);
+  checkOptionsBeforeRun(o);
 
   SlamSystem slam(config);
   if (!o.load_map.empty()) {

@@ -154,6 +154,13 @@ TEST(RunCli, ASavedMapPutsTheNextRunInItsWorldFrame) {
                          &out),
             2);
   EXPECT_NE(out.find("does not exist"), std::string::npos) << out;
+  // ... nor a file that could not be written at the end of the run.
+  EXPECT_EQ(test::runCli(run + " --save-map " + tmp.path().string() + " -o " + (tmp / "x").string(), &out), 2);
+  EXPECT_NE(out.find("is a folder, not a file"), std::string::npos) << out;
+  EXPECT_EQ(test::runCli(run + " --save-map /proc/m.tkgmap -o " + (tmp / "x").string(), &out), 2);
+  EXPECT_NE(out.find("--save-map '/proc/m.tkgmap': cannot write there"), std::string::npos) << out;
+  EXPECT_EQ(test::runCli(run + " --debug-dynamic /proc/d.jsonl -o " + (tmp / "x").string(), &out), 2);
+  EXPECT_NE(out.find("--debug-dynamic '/proc/d.jsonl': cannot write there"), std::string::npos) << out;
   // Localising in a map of another place: the outputs are written, but the run is a failure.
   // (Mirrored frames: ORB descriptors are not mirror-invariant, so nothing matches the map.)
   const auto mirrored = tmp / "mirrored";

@@ -34,5 +34,25 @@ TEST(OutputFolder, AFileInTheWayIsAnInputErrorNamingThePath) {
   EXPECT_NE(errorOf(tmp / "taken" / "sub").find("cannot create output folder"), std::string::npos);
 }
 
+TEST(OutputFolder, AWritableFileIsCheckedWithoutTouchingIt) {
+  test::TempDir tmp;
+  // A missing file: writable, and not left behind by the check.
+  EXPECT_NO_THROW(io::checkWritableFile((tmp / "new.map").string(), "--save-map"));
+  EXPECT_FALSE(std::filesystem::exists(tmp / "new.map"));
+  // An existing file: writable, its contents untouched.
+  test::writeText(tmp / "old.map", "contents");
+  EXPECT_NO_THROW(io::checkWritableFile((tmp / "old.map").string(), "--save-map"));
+  EXPECT_EQ(test::readFile(tmp / "old.map"), "contents");
+  // A folder, or a file in a missing folder: refused, naming the option.
+  try {
+    io::checkWritableFile(tmp.path().string(), "--save-map");
+    ADD_FAILURE() << "a folder was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--save-map '" + tmp.path().string() + "': is a folder"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(io::checkWritableFile((tmp / "missing" / "m.map").string(), "--save-map"), InputError);
+}
+
 }  // namespace
 }  // namespace tkgslam
