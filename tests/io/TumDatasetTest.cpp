@@ -1,3 +1,5 @@
+#include <limits>
+
 #include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
 
@@ -62,6 +64,12 @@ TEST(TumDataset, LoopsRepeatTheSequenceWithIncreasingStamps) {
   io::TumDataset ds(tmp.path().string(), o);
   ASSERT_EQ(ds.size(), 9);
   for (int i = 1; i < 9; ++i) EXPECT_GT(ds.timestamp(i), ds.timestamp(i - 1));
+  // More loops than a frame count can hold: refused, not a negative size.
+  o.loops = std::numeric_limits<int>::max() / 3 + 1;
+  const auto msg = errorOf([&] { io::TumDataset(tmp.path().string(), o); });
+  EXPECT_NE(msg.find("loops of the 3 frames"), std::string::npos) << msg;
+  o.loops = std::numeric_limits<int>::max() / 3;
+  EXPECT_EQ(io::TumDataset(tmp.path().string(), o).size(), std::numeric_limits<int>::max() / 3 * 3);
 }
 
 TEST(TumDataset, MissingFolder) {

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
@@ -113,6 +114,10 @@ TumDataset::TumDataset(const std::string& directory, TumDatasetOptions options)
                                    directory, first.cols, first.rows, options_.expected_width,
                                    options_.expected_height));
     }
+  }
+  if (options_.loops > std::numeric_limits<int>::max() / int(entries_.size())) {
+    throw InputError(fmt::format("{} loops of the {} frames of '{}' are more frames than a run can count (2^31)",
+                                 options_.loops, entries_.size(), directory));
   }
   has_masks_ = fs::is_directory(dir / "masks");
   const double span = entries_.back().rgb_timestamp - entries_.front().rgb_timestamp;
