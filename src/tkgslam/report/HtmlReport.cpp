@@ -97,6 +97,9 @@ double numberIn(const std::string& line, const char* key, const fs::path& p, int
   return v;
 }
 
+/// A count or pixel coordinate read as a double, clamped so the conversion to int is defined.
+int clampedInt(double v) { return int(std::clamp(v, -1e9, 1e9)); }
+
 std::vector<DynamicLine> readDynamic(const fs::path& p) {
   std::vector<DynamicLine> out;
   std::ifstream in(p);
@@ -108,7 +111,7 @@ std::vector<DynamicLine> readDynamic(const fs::path& p) {
     DynamicLine d;
     d.timestamp = numberIn(line, "timestamp", p, line_no);
     d.ratio = numberIn(line, "T", p, line_no);
-    d.dropped = int(numberIn(line, "dropped", p, line_no));
+    d.dropped = clampedInt(numberIn(line, "dropped", p, line_no));
     for (auto it = std::sregex_iterator(line.begin(), line.end(), box_re); it != std::sregex_iterator(); ++it) {
       const auto& m = *it;
       const bool pred = m[5] == "true";
@@ -118,7 +121,8 @@ std::vector<DynamicLine> readDynamic(const fs::path& p) {
           throw InputError(fmt::format("{}:{}: bad box '{}'", p.string(), line_no, m.str().substr(0, 80)));
         }
       }
-      d.boxes.push_back({cv::Rect(int(xywh[0]), int(xywh[1]), int(xywh[2]), int(xywh[3])), pred});
+      d.boxes.push_back(
+          {cv::Rect(clampedInt(xywh[0]), clampedInt(xywh[1]), clampedInt(xywh[2]), clampedInt(xywh[3])), pred});
       (pred ? d.predicted : d.detected)++;
     }
     out.push_back(std::move(d));
