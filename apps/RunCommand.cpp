@@ -416,11 +416,11 @@ Action addRunCommand(CLI::App& app) {
                   "Detector input's long side in pixels, a multiple of 32 (640 = the export's; 320: ~5 times faster, "
                   "large people found as well; overrides dynamic.input_size)")
       ->check([](const std::string& v) {
-        constexpr int kMax = dynamic::DetectorParams::kMaxInputSize;
+        using dynamic::DetectorParams;
         int n = 0;
-        return CLI::detail::lexical_cast(v, n) && n >= 64 && n <= kMax && n % 32 == 0
+        return CLI::detail::lexical_cast(v, n) && DetectorParams::validInputSize(n)
                    ? std::string()
-                   : fmt::format("must be a multiple of 32 from 64 to {}", kMax);
+                   : fmt::format("must be a multiple of 32 from 64 to {}", DetectorParams::kMaxInputSize);
       });
   cmd->add_flag("--fast", o->fast,
                 "TK/TKG: detector at about the cost of ORB tracking: --detect-every 2 --detector-tiles 4 --detector-latency 8 "

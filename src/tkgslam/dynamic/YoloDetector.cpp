@@ -138,7 +138,7 @@ YoloDetector::YoloDetector(const DetectorParams& params) : params_(params) {
   if (!std::filesystem::is_regular_file(params_.model)) {
     throw InputError(fmt::format("detector: model file '{}' does not exist", params_.model));
   }
-  if (params_.input_size < 64 || params_.input_size > DetectorParams::kMaxInputSize || params_.input_size % 32 != 0) {
+  if (!DetectorParams::validInputSize(params_.input_size)) {
     throw InputError(fmt::format("detector: input size {} must be a multiple of 32 from 64 to {}", params_.input_size,
                                  DetectorParams::kMaxInputSize));
   }

@@ -23,6 +23,8 @@ struct DetectorParams {
   /// nothing more and only cost time and memory (4096: 29 s and 2.4 GB per image; 16384 exhausts
   /// 24 GB).
   static constexpr int kMaxInputSize = 2048;
+  /// An input side the network takes: a multiple of 32 (its coarsest stride) from 64 to kMaxInputSize.
+  static constexpr bool validInputSize(int s) { return s >= 64 && s <= kMaxInputSize && s % 32 == 0; }
 
   std::string model;          ///< path to the ONNX file
   int input_size = 640;       ///< S: the input's long side, pixels (multiple of 32, 64 to kMaxInputSize)
