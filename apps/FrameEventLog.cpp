@@ -50,7 +50,7 @@ void FrameEventLog::add(const FrameOutcome& f) {
 }
 
 void FrameEventLog::addSkipped(double timestamp, const std::string& why) {
-  ++counts_.skipped;
+  if (counts_.skipped++ == 0) first_skip_reason_ = why;
   out_ << fmt::format("{:.6f} skipped {}\n", timestamp, why);
 }
 

@@ -30,10 +30,13 @@ class FrameEventLog {
     int skipped = 0;       ///< frames that could not be read
   };
   const Counts& counts() const { return counts_; }
+  /// Why the first skipped frame could not be read; empty when none was skipped.
+  const std::string& firstSkipReason() const { return first_skip_reason_; }
 
  private:
   std::ofstream out_;
   Counts counts_;
+  std::string first_skip_reason_;
 };
 
 }  // namespace tkgslam::app

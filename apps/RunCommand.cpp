@@ -278,6 +278,26 @@ void writeSummary(const RunOptions& o, const SlamConfig& config, const SlamSyste
   }
 }
 
+/// A run whose first this many frames are all unreadable stops there: the sequence's format is wrong.
+constexpr int kUnreadableStart = 20;
+/// Skipped frames warned about on the console; frame_log.txt lists them all.
+constexpr int kSkipWarnings = 10;
+
+/// Reads frame `i` into `images`. A frame that cannot be read is logged and skipped (returns false):
+/// one bad frame in a run is not fatal.
+bool readFrame(const io::TumDataset& dataset, int i, FrameEventLog& events, io::RgbdImages& images) {
+  try {
+    images = dataset.load(i);
+    return true;
+  } catch (const InputError& e) {
+    const int skipped = events.counts().skipped;
+    if (skipped < kSkipWarnings) spdlog::warn("frame {} skipped: {}", i, e.what());
+    if (skipped == kSkipWarnings) spdlog::warn("more frames skipped: frame_log.txt lists them all");
+    events.addSkipped(dataset.timestamp(i), e.what());
+    return false;
+  }
+}
+
 int runSlam(const RunOptions& o) {
   const SlamConfig config = configFor(o);
   io::TumDataset dataset = openDataset(o, config);
@@ -297,6 +317,7 @@ int runSlam(const RunOptions& o) {
   std::printf("tkgslam run: %d frames from %s (%s, dynamic mode %s)\n", n, o.dataset.c_str(),
               config.deterministic ? "deterministic" : "threaded", toString(config.dynamic.mode));
   int processed = 0;
+  bool stopped_early = false;  // the first frames were all unreadable
   // Frames that produced no pose, only a predicted one or were blurred, and why.
   FrameEventLog events(out / "frame_log.txt");
   // Resident memory every 100 frames: long (--loops) runs must stay flat once the map stops growing.
@@ -307,12 +328,12 @@ int runSlam(const RunOptions& o) {
   auto previous_handler = std::signal(SIGINT, onInterrupt);
   for (int i = first; i < end && !g_interrupted; ++i) {
     io::RgbdImages images;
-    try {
-      images = dataset.load(i);
-    } catch (const InputError& e) {
-      // A bad frame in the middle of a run is skipped, not fatal.
-      spdlog::warn("frame {} skipped: {}", i, e.what());
-      events.addSkipped(dataset.timestamp(i), e.what());
+    if (!readFrame(dataset, i, events, images)) {
+      // A whole sequence in a format load() does not take fails frame by frame: stop, not after all of it.
+      if (processed == 0 && events.counts().skipped == kUnreadableStart && i + 1 < end) {
+        stopped_early = true;
+        break;
+      }
       continue;
     }
     ++processed;
@@ -335,6 +356,7 @@ int runSlam(const RunOptions& o) {
     n = processed + events.counts().skipped;  // the summary covers the frames actually read
     std::printf("interrupted after %d frames: writing what was computed\n", n);
   }
+  if (stopped_early) n = events.counts().skipped;  // the summary covers the frames tried
   for (const auto& f : slam.finish()) events.add(f);
 
   const auto traj = slam.trajectory();
@@ -345,8 +367,10 @@ int runSlam(const RunOptions& o) {
               o.out.c_str());
   if (processed == 0 && events.counts().skipped > 0 && !g_interrupted) {
     // Outputs are written (frame_log.txt says why each frame failed), but an empty trajectory is no result.
-    throw InputError(
-        fmt::format("no frame could be read ({} tried; see {}/frame_log.txt)", events.counts().skipped, o.out));
+    throw InputError(fmt::format("no frame could be read ({} tried{}; see {}/frame_log.txt). The first: {}{}",
+                                 events.counts().skipped, stopped_early ? ", the rest not" : "", o.out,
+                                 events.firstSkipReason(),
+                                 stopped_early ? ". (If only the start is bad, --start-frame skips it.)" : ""));
   }
   if (o.load_map.empty() && traj.empty() && processed > 0 && !g_interrupted) {
     // The map never started: an empty trajectory is no result, and the cause is nearly always the depth.

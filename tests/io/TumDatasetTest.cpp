@@ -109,7 +109,9 @@ TEST(TumDataset, WrongDepthType) {
   cv::imwrite((tmp.path() / "depth" / "100.010000.png").string(), cv::Mat(48, 64, CV_8UC1, cv::Scalar(3)));
   io::TumDataset ds(tmp.path().string());
   const auto msg = errorOf([&] { ds.load(0); });
-  EXPECT_NE(msg.find("16-bit"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("must be single-channel 16-bit (or 32-bit float metres); it is 8-bit with 1 channel"),
+            std::string::npos)
+      << msg;
 }
 
 TEST(TumDataset, WrongImageSize) {

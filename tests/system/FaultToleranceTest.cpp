@@ -92,8 +92,28 @@ TEST(FaultTolerance, ASequenceWithNoReadableFrameIsAnError) {
       [](int) { return FrameFault::None; });
   std::string out;
   EXPECT_EQ(runSequence(tmp.path(), "out", "", out), 2) << out;
-  EXPECT_NE(out.find("no frame could be read (4 tried"), std::string::npos) << out;
+  EXPECT_NE(out.find("no frame could be read (4 tried; see"), std::string::npos) << out;
+  EXPECT_NE(out.find("The first: cannot read RGB image"), std::string::npos) << out;
   EXPECT_NE(test::readFile(tmp / "out" / "frame_log.txt").find("cannot read"), std::string::npos);
+}
+
+// A long sequence in a format the run does not take (here, no image can be read) stops after the
+// first frames instead of warning about every frame of it; the console warns about ten of them.
+TEST(FaultTolerance, ASequenceThatStartsUnreadableStopsEarly) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  writeFaultySequence(
+      tmp / "seq", 30, [](int) { return false; }, [](int) { return FrameFault::Unreadable; },
+      [](int) { return FrameFault::None; });
+  std::string out;
+  EXPECT_EQ(runSequence(tmp.path(), "out", "", out), 2) << out;
+  EXPECT_NE(out.find("no frame could be read (20 tried, the rest not; see"), std::string::npos) << out;
+  EXPECT_NE(out.find("frame 9 skipped: cannot read RGB image"), std::string::npos) << out;
+  EXPECT_EQ(out.find("frame 10 skipped"), std::string::npos) << out;
+  EXPECT_NE(out.find("more frames skipped: frame_log.txt lists them all"), std::string::npos) << out;
+  EXPECT_NE(out.find("frames 20, tracked 0"), std::string::npos) << out;
+  const std::string log = test::readFile(tmp / "out" / "frame_log.txt");
+  EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 21) << log;  // the header and 20 frames
 }
 
 // Images that load but whose depth is empty everywhere (a broken depth stream, a depth format the

@@ -11,4 +11,7 @@ namespace tkgslam::io {
 /// scaled down quietly) or has another channel count.
 cv::Mat readColourImage(const std::string& path, const std::string& what = "image");
 
+/// An image's pixel format in words for error messages, e.g. "16-bit with 1 channel".
+std::string describePixels(const cv::Mat& image);
+
 }  // namespace tkgslam::io

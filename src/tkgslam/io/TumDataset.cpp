@@ -210,8 +210,8 @@ RgbdImages TumDataset::load(int i) const {
   if (raw.empty()) throw InputError(fmt::format("cannot read depth image '{}'", e.depth_path));
   if (!isDepthType(raw)) {
     throw InputError(fmt::format("depth image '{}' must be single-channel 16-bit (or 32-bit float "
-                                 "metres); got {} channel(s) of depth type {}",
-                                 e.depth_path, raw.channels(), raw.depth()));
+                                 "metres); it is {}",
+                                 e.depth_path, describePixels(raw)));
   }
   if (raw.size() != out.bgr.size()) {
     throw InputError(fmt::format("depth image '{}' is {}x{} but the RGB image is {}x{}", e.depth_path,
