@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "Commands.h"
+#include "DefaultFile.h"
 #include "NumberChecks.h"
 #include "tkgslam/augment/SequenceAugmenter.h"
 #include "tkgslam/common/Error.h"
@@ -55,8 +56,8 @@ Action addAugmentCommand(CLI::App& app) {
   cmd->add_option("-d,--dataset", o->dataset, "Static TUM sequence with groundtruth.txt")->required();
   cmd->add_option("-p,--people", o->people, "Folder of photos with people")->required();
   cmd->add_option("-o,--out", o->out, "Output folder (TUM layout + masks/ + boxes.txt)")->required();
-  cmd->add_option("-c,--config", o->config, "Camera config (and detector model for the cut-outs)")
-      ->default_val(o->config);
+  auto* config = cmd->add_option("-c,--config", o->config, "Camera config (and detector model for the cut-outs)")
+                     ->default_val(o->config);
   auto& a = o->options;
   cmd->add_option("--seed", a.seed, "Random seed (same seed, same sequence)")->default_val(1);
   cmd->add_option("--count", a.people, "Number of people")->default_val(1)->check(CLI::Range(1, 20));
@@ -69,7 +70,10 @@ Action addAugmentCommand(CLI::App& app) {
                 "Only cut-outs of whole upright people (segmented head to feet, box at most 0.45 as wide as tall)");
   cmd->add_flag("--blur-people", a.blur_people_only, "Blur only the people (fast walkers), not the whole frame");
   cmd->add_option("--frames", a.max_frames, "Only the first N frames")->default_val(0)->check(nonNegativeNumber());
-  return [o] { return runAugment(*o); };
+  return [o, config] {
+    requireDefaultFile(*config, "--config");
+    return runAugment(*o);
+  };
 }
 
 }  // namespace tkgslam::app

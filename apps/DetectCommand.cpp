@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "Commands.h"
+#include "DefaultFile.h"
 #include "tkgslam/common/Error.h"
 #include "tkgslam/dynamic/YoloDetector.h"
 #include "tkgslam/io/ColourImage.h"
@@ -58,13 +59,16 @@ Action addDetectCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("detect", "Detect dynamic objects (YOLOv5) and draw them into PNGs");
   cmd->add_option("images", o->images, "Images to process")->required();
   cmd->add_option("-o,--out", o->out, "Output folder")->default_val(o->out);
-  cmd->add_option("--model", o->params.model, "YOLOv5 ONNX model")->default_val(o->params.model);
+  auto* model = cmd->add_option("--model", o->params.model, "YOLOv5 ONNX model")->default_val(o->params.model);
   cmd->add_option("--size", o->params.input_size, "Network input's long side (multiple of 32)")->default_val(640);
   cmd->add_flag("!--square", o->params.fit_input,
                 "Letterbox into a --size square instead of an input of the image's aspect ratio");
   cmd->add_option("--conf", o->params.confidence, "Score threshold")->default_val(0.25);
   cmd->add_option("--person-conf", o->params.person_confidence, "Score threshold for persons")->default_val(0.1);
-  return [o] { return runDetect(*o); };
+  return [o, model] {
+    requireDefaultFile(*model, "--model");
+    return runDetect(*o);
+  };
 }
 
 }  // namespace tkgslam::app

@@ -32,5 +32,25 @@ TEST(DetectCli, ADepthImageIsRefusedNotScaledToEightBits) {
   EXPECT_NE(out.find("is not an 8-bit image (a depth image?): it is 16-bit with 1 channel"), std::string::npos) << out;
 }
 
+// The default model path is relative to the working folder: from elsewhere, say so and name the
+// option, rather than "does not exist" for a path the user never typed. The same for augment's config.
+TEST(DetectCli, AMissingDefaultFileNamesItsOption) {
+  test::TempDir tmp;
+  const auto work = tmp / "a" / "b";  // a folder without ../shared
+  std::filesystem::create_directories(work);
+  const std::string cd = "cd " + work.string() + " && " + TKGSLAM_CLI;
+  std::string out;
+  EXPECT_EQ(test::runCommand(cd + " detect photo.jpg", &out), 2) << out;
+  EXPECT_NE(out.find("--model was not given and its default '../shared/models/yolov5n-coco-640.onnx' is not there"),
+            std::string::npos)
+      << out;
+  EXPECT_EQ(test::runCommand(cd + " augment -d seq -p people -o out", &out), 2) << out;
+  EXPECT_NE(out.find("--config was not given and its default 'configs/tum_fr1.yaml' is not there"), std::string::npos)
+      << out;
+  // A path that was given is reported as it is.
+  EXPECT_EQ(test::runCommand(cd + " detect --model nope.onnx photo.jpg", &out), 2) << out;
+  EXPECT_NE(out.find("model file 'nope.onnx' does not exist"), std::string::npos) << out;
+}
+
 }  // namespace
 }  // namespace tkgslam
