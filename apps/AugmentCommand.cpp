@@ -23,7 +23,10 @@ int runAugment(const AugmentCliOptions& o) {
   const SlamConfig config = io::loadConfig(o.config);
   io::TumDatasetOptions dopt;
   dopt.depth_factor = config.depth.factor;
+  dopt.expected_width = config.camera.width;  // the people are projected with this camera
+  dopt.expected_height = config.camera.height;
   io::TumDataset dataset(o.dataset, dopt);
+  dataset.load(0);  // a depth format it does not take fails now, not after the cut-outs
   const auto gt_path = dataset.groundTruthPath();
   if (!gt_path) throw InputError("augment: the dataset has no groundtruth.txt");
   const auto gt = io::readTumTrajectory(*gt_path);

@@ -1,6 +1,7 @@
 // The augmenter's options are checked before anything is done: cutting the people out of the photos
 // (detector + GrabCut) takes a while, and a typo in a size must not cost that wait.
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include "TestSupport.h"
 #include "tkgslam/augment/SequenceAugmenter.h"
@@ -38,6 +39,50 @@ TEST(SequenceAugmenter, TheCliRefusesBadSizesBeforeCuttingPeopleOut) {
       << out;
   EXPECT_EQ(out.find("person cut-outs"), std::string::npos) << "the cut-outs were made first:\n" << out;
   EXPECT_FALSE(std::filesystem::exists(tmp / "aug")) << "nothing is written for a refused run";
+}
+
+/// Runs `augment` with the fr1 config on a 2-frame sequence of `size` with depth of `depth_type`.
+int augmentTinySequence(const test::TempDir& tmp, cv::Size size, int depth_type, std::string& out) {
+  const auto seq = tmp / "seq";
+  std::filesystem::create_directories(seq / "rgb");
+  std::filesystem::create_directories(seq / "depth");
+  std::string rgb, depth, gt;
+  for (int i = 0; i < 2; ++i) {
+    const std::string t = std::to_string(100 + i);
+    cv::imwrite((seq / "rgb" / (t + ".png")).string(), cv::Mat(size, CV_8UC3, cv::Scalar(90, 120, 150)));
+    cv::imwrite((seq / "depth" / (t + ".png")).string(), cv::Mat(size, depth_type, cv::Scalar(200)));
+    rgb += t + " rgb/" + t + ".png\n";
+    depth += t + " depth/" + t + ".png\n";
+    gt += t + " 0 0 0 0 0 0 1\n";
+  }
+  test::writeText(seq / "rgb.txt", rgb);
+  test::writeText(seq / "depth.txt", depth);
+  test::writeText(seq / "groundtruth.txt", gt);
+  return test::runCli("augment -c " + (test::sourceDir() / "configs" / "tum_fr1.yaml").string() + " -d " +
+                          seq.string() + " -p " + (test::sharedDir() / "datasets" / "people").string() + " -o " +
+                          (tmp / "aug").string(),
+                      &out);
+}
+
+// The people are projected with the config's camera and their depth written into the depth images:
+// a sequence of another camera, or depth in a format it does not take, is refused up front.
+TEST(SequenceAugmenter, TheCliRefusesASequenceItCannotUseBeforeCuttingPeopleOut) {
+  TKGSLAM_REQUIRE_SHARED();
+  std::string out;
+  {
+    test::TempDir tmp;
+    EXPECT_EQ(augmentTinySequence(tmp, cv::Size(320, 240), CV_16UC1, out), 2) << out;
+    EXPECT_NE(out.find("are 320x240 but the camera config says 640x480"), std::string::npos) << out;
+    EXPECT_EQ(out.find("person cut-outs"), std::string::npos) << out;
+  }
+  {
+    test::TempDir tmp;
+    EXPECT_EQ(augmentTinySequence(tmp, cv::Size(640, 480), CV_8UC1, out), 2) << out;
+    EXPECT_NE(out.find("must be single-channel 16-bit (or 32-bit float metres); it is 8-bit with 1 channel"),
+              std::string::npos)
+        << out;
+    EXPECT_EQ(out.find("person cut-outs"), std::string::npos) << out;
+  }
 }
 
 }  // namespace
