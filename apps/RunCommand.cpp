@@ -46,8 +46,17 @@ struct RunOptions {
   bool fast = false;       // the detector schedule of bench/modes.sh's TKGt
 };
 
-std::atomic<bool> g_interrupted{false};
-extern "C" void onInterrupt(int) { g_interrupted = true; }
+/// The signal (SIGINT, SIGTERM) that asked the run to stop; 0 while none did.
+std::atomic<int> g_interrupted{0};
+extern "C" void onInterrupt(int sig) {
+  // A second Ctrl-C does not wait for the outputs: the default action ends the process.
+  if (g_interrupted != 0) {
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
+    return;
+  }
+  g_interrupted = sig;
+}
 
 /// A file's absolute path as a JSON string (quotes, backslashes and control characters escaped),
 /// or null for none.
@@ -324,8 +333,9 @@ int runSlam(const RunOptions& o) {
   std::ofstream memory_log(out / "memory.tsv");
   memory_log << "frame\trss_mib\tkeyframes\tmap_points\n";
   // Ctrl-C stops after the current frame; everything computed so far is still written.
-  g_interrupted = false;
-  auto previous_handler = std::signal(SIGINT, onInterrupt);
+  g_interrupted = 0;
+  const auto previous_int = std::signal(SIGINT, onInterrupt);
+  const auto previous_term = std::signal(SIGTERM, onInterrupt);
   for (int i = first; i < end && !g_interrupted; ++i) {
     io::RgbdImages images;
     if (!readFrame(dataset, i, events, images)) {
@@ -351,10 +361,12 @@ int runSlam(const RunOptions& o) {
                    slam.mapPointCount(), slam.timing().mean("total"), residentMemoryMiB());
     }
   }
-  std::signal(SIGINT, previous_handler);
+  std::signal(SIGINT, previous_int);
+  std::signal(SIGTERM, previous_term);
   if (g_interrupted) {
     n = processed + events.counts().skipped;  // the summary covers the frames actually read
-    std::printf("interrupted after %d frames: writing what was computed\n", n);
+    std::printf("interrupted (%s) after %d frames: writing what was computed\n",
+                g_interrupted == SIGTERM ? "SIGTERM" : "SIGINT", n);
   }
   if (stopped_early) n = events.counts().skipped;  // the summary covers the frames tried
   for (const auto& f : slam.finish()) events.add(f);
@@ -385,7 +397,7 @@ int runSlam(const RunOptions& o) {
     throw InputError(fmt::format("--localize: the camera was not found in the map '{}' on any of the {} frames",
                                  o.load_map, processed));
   }
-  return g_interrupted ? 130 : 0;
+  return g_interrupted ? 128 + g_interrupted : 0;  // the shell's code for a process ended by the signal
 }
 
 }  // namespace
