@@ -49,7 +49,11 @@ TEST(DetectCli, AMissingDefaultFileNamesItsOption) {
       << out;
   // A path that was given is reported as it is.
   EXPECT_EQ(test::runCommand(cd + " detect --model nope.onnx photo.jpg", &out), 2) << out;
-  EXPECT_NE(out.find("model file 'nope.onnx' does not exist"), std::string::npos) << out;
+  EXPECT_NE(out.find("model file 'nope.onnx' (" + (work / "nope.onnx").string() + ") does not exist"),
+            std::string::npos)
+      << out;
+  EXPECT_EQ(test::runCommand(cd + " detect --model " + tmp.path().string() + " photo.jpg", &out), 2) << out;
+  EXPECT_NE(out.find("model file '" + tmp.path().string() + "' is a folder"), std::string::npos) << out;
 }
 
 }  // namespace

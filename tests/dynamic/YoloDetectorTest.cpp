@@ -1,6 +1,7 @@
-#include <opencv2/imgcodecs.hpp>
+#include <cctype>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include "TestSupport.h"
 #include "tkgslam/common/Error.h"
@@ -143,7 +144,9 @@ TEST(YoloDetector, MissingOrMalformedModelIsAClearError) {
     dynamic::YoloDetector d(p);
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("bad.onnx"), std::string::npos) << e.what();
+    const std::string what = e.what();
+    EXPECT_NE(what.find("bad.onnx"), std::string::npos) << what;
+    EXPECT_FALSE(std::isspace(static_cast<unsigned char>(what.back()))) << "OpenCV's trailing newline: '" << what << "'";
   }
   if (!test::sharedDir().empty()) {
     p = params();

@@ -1,6 +1,7 @@
 #include "tkgslam/dynamic/YoloDetector.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -136,7 +137,12 @@ std::vector<int> defaultDynamicClasses() {
 YoloDetector::YoloDetector(const DetectorParams& params) : params_(params) {
   if (params_.model.empty()) throw InputError("detector: no model path configured (dynamic.model)");
   if (!std::filesystem::is_regular_file(params_.model)) {
-    throw InputError(fmt::format("detector: model file '{}' does not exist", params_.model));
+    const std::filesystem::path model(params_.model);
+    // A relative path is taken from the working folder (or the config file's): say where that was.
+    const std::string where =
+        model.is_relative() ? fmt::format(" ({})", std::filesystem::absolute(model).lexically_normal().string()) : "";
+    throw InputError(fmt::format("detector: model file '{}'{} {}", params_.model, where,
+                                 std::filesystem::is_directory(model) ? "is a folder" : "does not exist"));
   }
   if (!DetectorParams::validInputSize(params_.input_size)) {
     throw InputError(fmt::format("detector: input size {} must be a multiple of 32 from 64 to {}", params_.input_size,
@@ -162,8 +168,10 @@ YoloDetector::YoloDetector(const DetectorParams& params) : params_(params) {
     net_.setInput(cv::dnn::blobFromImage(probe, 1.0 / 255.0, cv::Size(), cv::Scalar(), true, false));
     out = net_.forward();
   } catch (const cv::Exception& e) {
+    std::string why = e.what();
+    while (!why.empty() && std::isspace(static_cast<unsigned char>(why.back()))) why.pop_back();
     throw InputError(fmt::format("detector: model '{}' does not load or run at input size {}: {}", params_.model,
-                                 params_.input_size, e.what()));
+                                 params_.input_size, why));
   }
   if (out.dims != 3 || out.size[2] < 6) {
     throw InputError(fmt::format("detector: model '{}' output is not YOLOv5-shaped (1 x N x 5+classes)", params_.model));
