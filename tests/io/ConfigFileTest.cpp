@@ -146,7 +146,17 @@ TEST(ConfigFile, InvalidValuesAreClearErrors) {
   EXPECT_NE(errorOf(std::string(kMinimal) + "orb: {featurs: 100}").find("unknown key 'orb.featurs'"),
             std::string::npos);
   EXPECT_NE(errorOf(std::string(kMinimal) + "depth: {factor: -1}").find("depth.factor"), std::string::npos);
-  EXPECT_NE(errorOf(std::string(kMinimal) + "orb: {features: many}").find("invalid value"), std::string::npos);
+  // The line, the value as written and what the key takes.
+  EXPECT_NE(errorOf(std::string(kMinimal) + "orb: {features: many}")
+                .find("cfg.yaml:2: key 'orb.features' has an invalid value 'many': it takes a whole number"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic:\n  object_mask: maybe\n")
+                .find("cfg.yaml:3: key 'dynamic.object_mask' has an invalid value 'maybe': it takes true or false"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "dynamic: {classes: [0, person]}")
+                .find("invalid value '[0, person]': it takes a list of whole numbers"),
+            std::string::npos);
+  EXPECT_NE(errorOf(std::string(kMinimal) + "depth: {factor: [1, 2]}").find("it takes a number"), std::string::npos);
   EXPECT_NE(errorOf(std::string(kMinimal) + "bogus: 1").find("unknown section 'bogus'"), std::string::npos);
   EXPECT_NE(errorOf("camera: [1, 2").find("not valid YAML"), std::string::npos);
   EXPECT_NE(errorOf("orb: {features: 100}").find("missing section 'camera'"), std::string::npos);

@@ -38,6 +38,33 @@ bool isFinite(const T& value) {
   return true;
 }
 
+/// What a key of type T takes, in words for an error message.
+template <typename T>
+const char* kindOf() {
+  if constexpr (std::is_same_v<T, bool>) {
+    return "true or false";
+  } else if constexpr (std::is_integral_v<T>) {
+    return "a whole number";
+  } else if constexpr (std::is_floating_point_v<T>) {
+    return "a number";
+  } else if constexpr (std::is_same_v<T, std::vector<int>>) {
+    return "a list of whole numbers, e.g. [0, 1]";
+  } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+    return "a list of numbers";
+  } else {
+    return "a text";
+  }
+}
+
+/// A node as written in the file, shortened for an error message.
+std::string shownValue(const YAML::Node& node) {
+  std::string text = YAML::Dump(node);
+  for (char& c : text) {
+    if (c == '\n') c = ' ';
+  }
+  return text.size() > 40 ? text.substr(0, 37) + "..." : text;
+}
+
 // yaml-cpp keeps both entries of a key written twice and lookups return the first, so a value
 // appended to the end of a config to override one above would be ignored without a word.
 void checkNoDuplicateKeys(const YAML::Node& map, const std::string& source, const std::string& prefix,
@@ -84,7 +111,8 @@ class Section {
     try {
       parsed = section[key].template as<T>();
     } catch (const YAML::Exception&) {
-      throw InputError(fmt::format("{}: key '{}.{}' has an invalid value", source_, name_, key));
+      throw InputError(fmt::format("{}:{}: key '{}.{}' has an invalid value '{}': it takes {}", source_,
+                                   section[key].Mark().line + 1, name_, key, shownValue(section[key]), kindOf<T>()));
     }
     // .nan/.inf parse as doubles but would pass or poison every later range check.
     if (!isFinite(parsed)) throw InputError(fmt::format("{}: key '{}.{}' must be finite", source_, name_, key));
