@@ -35,10 +35,16 @@ int runAugment(const AugmentCliOptions& o) {
   // seed gives the same composite as the published benchmark (fitted, 2 more photos yield one).
   det_params.fit_input = false;
   dynamic::YoloDetector detector(det_params);
+  std::printf("cutting the people out of the photos in %s\n", o.people.c_str());
+  std::fflush(stdout);
   const auto cutouts = augment::extractPersonCutouts(o.people, detector, 150, 0.5f, o.whole_people);
   std::printf("%zu person cut-outs from %s\n", cutouts.size(), o.people.c_str());
   const camera::PinholeCamera camera(config.camera);
-  const auto s = augment::augmentSequence(dataset, gt, cutouts, camera, config.depth.factor, o.out, o.options);
+  const auto progress = [](int done, int total) {
+    if (done % 50 == 0 || done == total) std::fprintf(stderr, "  frame %4d/%d written\n", done, total);
+  };
+  const auto s =
+      augment::augmentSequence(dataset, gt, cutouts, camera, config.depth.factor, o.out, o.options, progress);
   std::printf("wrote %d frames to %s: dynamic pixels mean %.1f %% (max %.1f %%), box ratio T mean %.2f, "
               "T >= 0.7 on %d frames, %d blurred frames\n",
               s.frames, o.out.c_str(), 100 * s.mean_coverage, 100 * s.max_coverage, s.mean_box_ratio,

@@ -332,7 +332,7 @@ int runSlam(const RunOptions& o) {
   // Resident memory every 100 frames: long (--loops) runs must stay flat once the map stops growing.
   std::ofstream memory_log(out / "memory.tsv");
   memory_log << "frame\trss_mib\tkeyframes\tmap_points\n";
-  // Ctrl-C stops after the current frame; everything computed so far is still written.
+  // Ctrl-C or SIGTERM stops after the current frame; everything computed so far is still written.
   g_interrupted = 0;
   const auto previous_int = std::signal(SIGINT, onInterrupt);
   const auto previous_term = std::signal(SIGTERM, onInterrupt);

@@ -50,7 +50,8 @@ void checkAugmentOptions(const AugmentOptions& o) {
 
 AugmentStats augmentSequence(const io::TumDataset& ds, const std::vector<io::TrajectoryEntry>& gt,
                              const std::vector<PersonCutout>& cutouts, const camera::PinholeCamera& cam,
-                             double depth_factor, const std::string& out_dir, const AugmentOptions& o) {
+                             double depth_factor, const std::string& out_dir, const AugmentOptions& o,
+                             const AugmentProgress& progress) {
   if (gt.size() < 2) throw InputError("augment: the dataset needs a ground-truth trajectory");
   if (cutouts.empty()) throw InputError("augment: no person cut-outs");
   checkAugmentOptions(o);
@@ -180,6 +181,7 @@ AugmentStats augmentSequence(const io::TumDataset& ds, const std::vector<io::Tra
     stats.mean_box_ratio += ratio;
     stats.frames_ratio_over_07 += ratio >= 0.7;
     ++stats.frames;
+    if (progress) progress(i + 1, n);
   }
   if (stats.frames > 0) {
     stats.mean_coverage /= stats.frames;

@@ -8,6 +8,7 @@
 // Output (TUM layout): rgb/, depth/, rgb.txt, depth.txt, groundtruth.txt (copied), plus
 // masks/ (255 = dynamic pixel) and boxes.txt ("timestamp person x y w h", raw pixels).
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -47,10 +48,14 @@ struct AugmentStats {
 /// Throws InputError unless people >= 1 and 0 < min_size <= max_size <= 1.5.
 void checkAugmentOptions(const AugmentOptions& options);
 
+/// Called after each frame written: frames done and the total.
+using AugmentProgress = std::function<void(int done, int total)>;
+
 /// Writes the composite sequence to `out_dir`. Throws InputError on invalid options (as
 /// checkAugmentOptions) and I/O problems.
 AugmentStats augmentSequence(const io::TumDataset& dataset, const std::vector<io::TrajectoryEntry>& ground_truth,
                              const std::vector<PersonCutout>& cutouts, const camera::PinholeCamera& camera,
-                             double depth_factor, const std::string& out_dir, const AugmentOptions& options);
+                             double depth_factor, const std::string& out_dir, const AugmentOptions& options,
+                             const AugmentProgress& progress = {});
 
 }  // namespace tkgslam::augment
