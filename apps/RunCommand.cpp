@@ -189,6 +189,22 @@ void checkOptionsBeforeRun(const RunOptions& o) {
   if (!o.debug_dynamic.empty()) io::checkWritableFile(o.debug_dynamic, "--debug-dynamic");
 }
 
+/// Every file `run` may write into its output folder. Those of an earlier run into the same folder
+/// are removed first: a stale dynamic.jsonl or report.html would otherwise pass for this run's.
+constexpr const char* kRunOutputs[] = {"trajectory.txt", "keyframes.txt",     "map.ply",          "timing.json",
+                                       "run.json",       "frame_log.txt",     "memory.tsv",       "config_used.yaml",
+                                       "dynamic.jsonl",  "dynamic_eval.json", "report.html"};
+
+void removeEarlierOutputs(const std::filesystem::path& out) {
+  int removed = 0;
+  for (const char* name : kRunOutputs) {
+    std::error_code ec;
+    removed += std::filesystem::remove(out / name, ec);
+    if (ec) throw InputError(fmt::format("cannot replace '{}': {}", (out / name).string(), ec.message()));
+  }
+  if (removed > 0) std::printf("replacing the outputs of an earlier run in %s\n", out.string().c_str());
+}
+
 /// Writes what the run built into the output folder (and the map file), and the keypoint
 /// classification against ground-truth masks when the sequence has them.
 void writeOutputs(const RunOptions& o, const SlamConfig& config, const SlamSystem& slam,
@@ -320,6 +336,7 @@ int runSlam(const RunOptions& o) {
   }
   io::createOutputFolder(o.out);
   const std::filesystem::path out(o.out);
+  removeEarlierOutputs(out);
   const int first = o.start_frame;
   const int end = o.max_frames > 0 ? std::min(first + o.max_frames, dataset.size()) : dataset.size();
   int n = end - first;

@@ -92,6 +92,28 @@ TEST(RunCli, FastIsTheTiledLookaheadScheduleAndNeedsAKalmanMode) {
   }
 }
 
+// A second run into the same folder must not leave the first run's files beside its own: an orb run
+// after a TKG run would otherwise have the TKG run's dynamic.jsonl, and its report that run's boxes.
+TEST(RunCli, ARunIntoAnEarlierRunsFolderReplacesAllItsOutputs) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  const std::string run = "run --deterministic -q --max-frames 5 -c " +
+                          (test::sourceDir() / "configs" / "tum_fr1.yaml").string() + " -d " + test::fr1xyz().string() +
+                          " -o " + (tmp / "out").string();
+  std::string out;
+  ASSERT_EQ(test::runCli(run + " --mode TKG --report", &out), 0) << out;
+  ASSERT_TRUE(std::filesystem::exists(tmp / "out" / "dynamic.jsonl"));
+  test::writeText(tmp / "out" / "notes.txt", "mine");
+  ASSERT_EQ(test::runCli(run + " --mode orb", &out), 0) << out;
+  EXPECT_NE(out.find("replacing the outputs of an earlier run in"), std::string::npos) << out;
+  EXPECT_FALSE(std::filesystem::exists(tmp / "out" / "dynamic.jsonl"));
+  EXPECT_FALSE(std::filesystem::exists(tmp / "out" / "report.html"));
+  EXPECT_TRUE(std::filesystem::exists(tmp / "out" / "trajectory.txt"));
+  EXPECT_EQ(test::readFile(tmp / "out" / "notes.txt"), "mine") << "only run's own files are replaced";
+  ASSERT_EQ(test::runCli("report " + (tmp / "out").string(), &out), 0) << out;
+  EXPECT_EQ(test::readFile(tmp / "out" / "report.html").find("Dynamic objects"), std::string::npos);
+}
+
 TEST(RunCli, ASavedMapPutsTheNextRunInItsWorldFrame) {
   TKGSLAM_REQUIRE_SHARED();
   test::TempDir tmp;
