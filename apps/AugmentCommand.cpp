@@ -1,5 +1,8 @@
 // tkgslam augment: composite real people walking through a real static RGB-D sequence.
 #include <cstdio>
+#include <filesystem>
+
+#include <fmt/format.h>
 
 #include "Commands.h"
 #include "DefaultFile.h"
@@ -20,6 +23,12 @@ struct AugmentCliOptions {
 
 int runAugment(const AugmentCliOptions& o) {
   augment::checkAugmentOptions(o.options);  // before the minutes spent cutting people out
+  std::error_code ec;
+  if (std::filesystem::equivalent(o.out, o.dataset, ec)) {
+    throw InputError(fmt::format("augment: --out '{}' is the --dataset folder: the composite would overwrite the "
+                                 "original's depth images and lists; give another folder",
+                                 o.out));
+  }
   const SlamConfig config = io::loadConfig(o.config);
   io::TumDatasetOptions dopt;
   dopt.depth_factor = config.depth.factor;

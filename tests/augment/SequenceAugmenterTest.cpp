@@ -85,5 +85,21 @@ TEST(SequenceAugmenter, TheCliRefusesASequenceItCannotUseBeforeCuttingPeopleOut)
   }
 }
 
+// Writing the composite over its own source would replace the original depth images and lists.
+TEST(SequenceAugmenter, TheCliRefusesToWriteIntoTheSourceSequence) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  std::string out;
+  ASSERT_EQ(augmentTinySequence(tmp, cv::Size(640, 480), CV_16UC1, out), 0) << out;
+  const std::string depth_list = test::readFile(tmp / "seq" / "depth.txt");
+  EXPECT_EQ(test::runCli("augment -c " + (test::sourceDir() / "configs" / "tum_fr1.yaml").string() + " -d " +
+                             (tmp / "seq").string() + " -p " + (test::sharedDir() / "datasets" / "people").string() +
+                             " -o " + (tmp / "seq" / "." / "").string(),
+                         &out),
+            2);
+  EXPECT_NE(out.find("is the --dataset folder"), std::string::npos) << out;
+  EXPECT_EQ(test::readFile(tmp / "seq" / "depth.txt"), depth_list);
+}
+
 }  // namespace
 }  // namespace tkgslam
