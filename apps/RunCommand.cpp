@@ -252,14 +252,15 @@ void writeSummary(const RunOptions& o, const SlamConfig& config, const SlamSyste
                   const std::vector<StampedPose>& traj, int n, const FrameEventLog::Counts& events) {
   const double ratio = n > 0 ? double(traj.size()) / n : 0.0;
   writeText(std::filesystem::path(o.out) / "run.json",
-            fmt::format("{{\"dataset\": {}, \"config\": {}, \"mode\": \"{}\", \"deterministic\": {}, "
+            fmt::format("{{\"tkgslam_version\": \"{}\", \"dataset\": {}, \"config\": {}, \"mode\": \"{}\", "
+                        "\"deterministic\": {}, "
                         "\"frames\": {}, \"tracked\": {}, \"tracked_ratio\": {:.4f}, \"predicted\": {}, "
                         "\"interpolated_lost\": {}, \"blurred\": {}, \"skipped\": {}, "
                         "\"keyframes\": {}, \"keyframes_held\": {}, \"loops_closed\": {}, "
                         "\"map_points\": {}, \"mean_ms_per_frame\": {:.2f}, \"median_ms_per_frame\": {:.2f}, "
                         "\"ratio_threshold\": {}, \"start_frame\": {}, \"map_loaded\": {}, \"map_saved\": {}, \"localization_only\": {}, "
                         "\"associations\": {}}}\n",
-                        jsonPathOrNull(o.dataset), jsonPathOrNull(o.config), toString(config.dynamic.mode),
+                        TKGSLAM_VERSION, jsonPathOrNull(o.dataset), jsonPathOrNull(o.config), toString(config.dynamic.mode),
                         config.deterministic ? "true" : "false", n, traj.size(), ratio, events.predicted,
                         events.interpolated, events.blurred, events.skipped, slam.keyFrameCount(),
                         slam.mappingStats().keyframes_held, slam.loopStats().closed, slam.mapPointCount(),

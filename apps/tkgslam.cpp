@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <exception>
 #include <map>
+#include <string>
 
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
@@ -13,6 +14,7 @@
 int main(int argc, char** argv) {
   CLI::App app{"tkgslam - RGB-D SLAM that keeps working when people fill the view"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("tkgslam ") + TKGSLAM_VERSION);
   bool verbose = false;
   app.add_flag("-v,--verbose", verbose, "Debug logging");
   std::map<CLI::App*, tkgslam::app::Action> actions;
@@ -29,6 +31,17 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    // CLI11 reports a mistyped command as "A subcommand is required": name it instead.
+    std::string names;
+    bool known = false;
+    for (const auto* sub : app.get_subcommands({})) {
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+      known = known || (argc > 1 && sub->get_name() == argv[1]);
+    }
+    if (argc > 1 && argv[1][0] != '-' && !known) {
+      std::fprintf(stderr, "unknown command '%s' (the commands: %s; see tkgslam --help)\n", argv[1], names.c_str());
+      return 2;
+    }
     return app.exit(e) == 0 ? 0 : 2;
   }
   spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info);

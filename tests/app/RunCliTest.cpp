@@ -260,8 +260,9 @@ TEST(RunCli, RunJsonIsValidJsonWhateverThePathsHold) {
       << out;
   const std::string check = "python3 -c 'import json, sys; r = json.load(open(sys.argv[1])); "
                             "sys.exit(0 if r[\"dataset\"] == sys.argv[2] and r[\"map_saved\"] == sys.argv[3] "
-                            "and r[\"map_loaded\"] is None else 1)' " +
-                            (tmp / "out" / "run.json").string() + " '" + data.string() + "' '" + map.string() + "'";
+                            "and r[\"map_loaded\"] is None and r[\"tkgslam_version\"] == sys.argv[4] else 1)' " +
+                            (tmp / "out" / "run.json").string() + " '" + data.string() + "' '" + map.string() + "' " +
+                            TKGSLAM_VERSION;
   EXPECT_EQ(std::system(check.c_str()), 0) << test::readFile(tmp / "out" / "run.json");
 }
 
