@@ -1,7 +1,10 @@
 // tkgslam detect IMAGE...: run the dynamic-object detector and draw the boxes into PNGs.
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 
 #include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
@@ -24,10 +27,48 @@ struct DetectOptions {
   dynamic::DetectorParams params;
 };
 
+/// The images to process: files as given, folders replaced by their image files in name order.
+std::vector<std::string> expandImages(const std::vector<std::string>& paths) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> images;
+  for (const auto& path : paths) {
+    if (!fs::is_directory(path)) {
+      images.push_back(path);
+      continue;
+    }
+    std::vector<std::string> found;
+    for (const auto& entry : fs::directory_iterator(path)) {
+      std::string ext = entry.path().extension().string();
+      for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+      const bool image = ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".tif" ||
+                         ext == ".tiff" || ext == ".webp";
+      if (image && entry.is_regular_file()) found.push_back(entry.path().string());
+    }
+    if (found.empty()) throw InputError(fmt::format("folder '{}' has no images (png, jpg, bmp, tif, webp)", path));
+    std::sort(found.begin(), found.end());
+    images.insert(images.end(), found.begin(), found.end());
+  }
+  return images;
+}
+
+/// The drawing of `image` in `out_dir`.
+std::filesystem::path drawingPath(const std::string& out_dir, const std::string& image) {
+  return std::filesystem::path(out_dir) / (std::filesystem::path(image).stem().string() + "_det.png");
+}
+
 int runDetect(DetectOptions o) {
+  const auto images = expandImages(o.images);
+  std::map<std::filesystem::path, std::string> drawn;  // one drawing per image, none written over another
+  for (const auto& path : images) {
+    const auto [it, fresh] = drawn.emplace(drawingPath(o.out, path), path);
+    if (!fresh) {
+      throw InputError(fmt::format("'{}' and '{}' would both be drawn into '{}': give images with different names",
+                                   it->second, path, it->first.string()));
+    }
+  }
   dynamic::YoloDetector detector(o.params);
   io::createOutputFolder(o.out);
-  for (const auto& path : o.images) {
+  for (const auto& path : images) {
     const cv::Mat img = io::readColourImage(path);
     const auto t0 = std::chrono::steady_clock::now();
     const auto dets = detector.detect(img);
@@ -44,7 +85,7 @@ int runDetect(DetectOptions o) {
       cv::putText(vis, fmt::format("{} {:.2f}", d.class_id, d.score), d.box.tl() + cv::Point2f(2, 14),
                   cv::FONT_HERSHEY_SIMPLEX, 0.5, colour, 1);
     }
-    const auto out = std::filesystem::path(o.out) / (std::filesystem::path(path).stem().string() + "_det.png");
+    const auto out = drawingPath(o.out, path);
     if (!cv::imwrite(out.string(), vis)) throw InputError(fmt::format("cannot write '{}'", out.string()));
   }
   std::printf("images with boxes in %s\n", o.out.c_str());
@@ -57,7 +98,7 @@ Action addDetectCommand(CLI::App& app) {
   auto o = std::make_shared<DetectOptions>();
   o->params.model = "../shared/models/yolov5n-coco-640.onnx";
   auto* cmd = app.add_subcommand("detect", "Detect dynamic objects (YOLOv5) and draw them into PNGs");
-  cmd->add_option("images", o->images, "Images to process")->required();
+  cmd->add_option("images", o->images, "Images to process (a folder: its images)")->required();
   cmd->add_option("-o,--out", o->out, "Output folder")->default_val(o->out);
   auto* model = cmd->add_option("--model", o->params.model, "YOLOv5 ONNX model")->default_val(o->params.model);
   cmd->add_option("--size", o->params.input_size, "Network input's long side (multiple of 32)")->default_val(640);

@@ -22,6 +22,29 @@ TEST(DetectCli, FindsThePeopleInARealPhotoAndDrawsThem) {
   EXPECT_GT(std::filesystem::file_size(tmp / "det" / "bus_det.png"), 10000u);
 }
 
+TEST(DetectCli, AFolderStandsForTheImagesInIt) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  const auto photos = tmp / "photos";
+  std::filesystem::create_directories(photos);
+  std::filesystem::copy_file(test::sharedDir() / "datasets" / "people" / "bus.jpg", photos / "b.JPG");
+  std::filesystem::copy_file(test::sharedDir() / "datasets" / "people" / "zidane.jpg", photos / "a.jpg");
+  test::writeText(photos / "notes.txt", "not an image");
+  std::string out;
+  ASSERT_EQ(test::runCli(detectArgs(tmp) + photos.string(), &out), 0) << out;
+  EXPECT_LT(out.find("a.jpg: "), out.find("b.JPG: ")) << out;  // in name order
+  EXPECT_TRUE(std::filesystem::exists(tmp / "det" / "a_det.png"));
+  EXPECT_TRUE(std::filesystem::exists(tmp / "det" / "b_det.png"));
+  EXPECT_EQ(out.find("notes"), std::string::npos) << out;
+  std::filesystem::create_directories(tmp / "empty");
+  EXPECT_EQ(test::runCli(detectArgs(tmp) + (tmp / "empty").string(), &out), 2) << out;
+  EXPECT_NE(out.find("has no images"), std::string::npos) << out;
+  // b.JPG and a b.png elsewhere would both be drawn into b_det.png.
+  std::filesystem::copy_file(photos / "a.jpg", tmp / "b.png");
+  EXPECT_EQ(test::runCli(detectArgs(tmp) + photos.string() + " " + (tmp / "b.png").string(), &out), 2) << out;
+  EXPECT_NE(out.find("would both be drawn into"), std::string::npos) << out;
+}
+
 TEST(DetectCli, ADepthImageIsRefusedNotScaledToEightBits) {
   TKGSLAM_REQUIRE_SHARED();
   test::TempDir tmp;
