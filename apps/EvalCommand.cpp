@@ -15,6 +15,7 @@
 #include "tkgslam/eval/Rpe.h"
 #include "tkgslam/eval/TrajectoryPlot.h"
 #include "tkgslam/io/TumDataset.h"
+#include "tkgslam/io/InputFile.h"
 
 namespace tkgslam::app {
 
@@ -47,8 +48,7 @@ void printStats(const char* name, const char* unit, const eval::ErrorStatistics&
 int countInputFrames(const std::string& path) {
   namespace fs = std::filesystem;
   const fs::path list = fs::is_directory(path) ? fs::path(path) / "rgb.txt" : fs::path(path);
-  std::ifstream in(list);
-  if (!in) throw InputError(fmt::format("cannot open frame list '{}'", list.string()));
+  std::ifstream in = io::openInputFile(list.string(), "frame list");
   return int(io::parseTumImageList(in, list.string()).size());
 }
 

@@ -161,7 +161,10 @@ TEST(EvalCli, BadInputExitsWithTwoAndAMessage) {
   EXPECT_EQ(test::runCli("eval " + (tmp / "ok.txt").string() + " " + (tmp / "bad.txt").string(), &out), 2);
   EXPECT_NE(out.find("bad.txt:1"), std::string::npos) << out;
   EXPECT_EQ(test::runCli("eval /nonexistent.txt " + (tmp / "ok.txt").string(), &out), 2);
-  EXPECT_NE(out.find("cannot open"), std::string::npos) << out;
+  EXPECT_NE(out.find("trajectory file '/nonexistent.txt' does not exist"), std::string::npos) << out;
+  EXPECT_EQ(test::runCli("eval " + (tmp / "ok.txt").string() + " " + tmp.path().string(), &out), 2);
+  EXPECT_NE(out.find("trajectory file '" + tmp.path().string() + "' is a folder, not a file"), std::string::npos)
+      << out;
   EXPECT_EQ(test::runCli("eval", &out), 2);
   EXPECT_EQ(test::runCli("eval --delta 0 " + (tmp / "ok.txt").string() + " " + (tmp / "ok.txt").string(), &out), 2);
   EXPECT_NE(out.find("--delta: must be more than 0, got 0"), std::string::npos) << out;

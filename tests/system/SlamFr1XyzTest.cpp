@@ -41,7 +41,7 @@ TEST(SlamFr1Xyz, AccurateCompleteAndDeterministic) {
 TEST(SlamRunCli, BadInputIsAClearErrorNotACrash) {
   std::string out;
   EXPECT_EQ(test::runCli("run -c /nonexistent.yaml -d /tmp -o /tmp/x", &out), 2);
-  EXPECT_NE(out.find("cannot open config file"), std::string::npos) << out;
+  EXPECT_NE(out.find("config file '/nonexistent.yaml' does not exist"), std::string::npos) << out;
   EXPECT_EQ(test::runCli("run -c " + (test::sourceDir() / "configs/tum_fr1.yaml").string() +
                              " -d /nonexistent/seq -o /tmp/x",
                          &out),

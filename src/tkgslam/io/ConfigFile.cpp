@@ -15,6 +15,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "tkgslam/common/Error.h"
+#include "tkgslam/io/InputFile.h"
 
 namespace tkgslam::io {
 
@@ -470,8 +471,7 @@ std::string configToYaml(const SlamConfig& config) {
 }
 
 SlamConfig loadConfig(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("cannot open config file '{}'", path));
+  std::ifstream in = openInputFile(path, "config file");
   std::stringstream ss;
   ss << in.rdbuf();
   return parseConfig(ss.str(), path);

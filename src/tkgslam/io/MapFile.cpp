@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "tkgslam/common/Error.h"
+#include "tkgslam/io/InputFile.h"
 
 namespace tkgslam::io {
 
@@ -402,10 +403,7 @@ void writeMapFile(const std::string& path, const data::Map& map, const camera::P
 
 size_t readMapFile(const std::string& path, data::Map& map, const camera::PinholeCamera& camera,
                    const feature::ScalePyramid& pyramid) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(fmt::format("map file '{}' does not exist", path));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("cannot read the map file '{}'", path));
+  std::ifstream in = openInputFile(path, "map file", std::ios::binary);
   std::ostringstream buf;
   buf << in.rdbuf();
   try {

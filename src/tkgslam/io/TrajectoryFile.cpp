@@ -8,6 +8,7 @@
 
 #include "tkgslam/common/Error.h"
 #include "tkgslam/io/TextParsing.h"
+#include "tkgslam/io/InputFile.h"
 
 namespace tkgslam::io {
 
@@ -47,8 +48,7 @@ std::vector<TrajectoryEntry> parseTumTrajectory(std::istream& in, const std::str
 }
 
 std::vector<TrajectoryEntry> readTumTrajectory(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("cannot open trajectory file '{}'", path));
+  std::ifstream in = openInputFile(path, "trajectory file");
   return parseTumTrajectory(in, path);
 }
 

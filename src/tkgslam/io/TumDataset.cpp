@@ -12,6 +12,7 @@
 #include "tkgslam/eval/Association.h"
 #include "tkgslam/io/ColourImage.h"
 #include "tkgslam/io/TextParsing.h"
+#include "tkgslam/io/InputFile.h"
 
 namespace fs = std::filesystem;
 
@@ -62,13 +63,12 @@ std::vector<AssociationLine> parseAssociationFile(std::istream& in, const std::s
 namespace {
 
 std::vector<ListEntry> readList(const fs::path& path) {
-  if (!fs::is_regular_file(path)) {
+  if (!fs::exists(path)) {
     throw InputError(fmt::format("missing image list '{}' (a TUM sequence has rgb.txt and depth.txt; or give "
                                  "an association file with --associations)",
                                  path.string()));
   }
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("cannot read image list '{}'", path.string()));
+  std::ifstream in = openInputFile(path.string(), "image list");
   auto list = parseTumImageList(in, path.string());
   if (list.empty()) throw InputError(fmt::format("image list '{}' has no entries", path.string()));
   return list;
@@ -152,9 +152,7 @@ void TumDataset::associateLists() {
 
 void TumDataset::readAssociationFile() {
   const std::string& file = options_.associations;
-  if (!fs::is_regular_file(file)) throw InputError(fmt::format("association file '{}' does not exist", file));
-  std::ifstream in(file);
-  if (!in) throw InputError(fmt::format("cannot read association file '{}'", file));
+  std::ifstream in = openInputFile(file, "association file");
   const auto lines = parseAssociationFile(in, file);
   if (lines.empty()) throw InputError(fmt::format("association file '{}' has no entries", file));
   // Names are relative to the sequence folder, as ORB-SLAM2 reads them (absolute ones stay).
