@@ -1,6 +1,8 @@
 // tkgslam run: SLAM on a TUM-layout RGB-D sequence; writes trajectory, keyframes, map, timings.
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -354,6 +356,7 @@ int runSlam(const RunOptions& o) {
   g_interrupted = 0;
   const auto previous_int = std::signal(SIGINT, onInterrupt);
   const auto previous_term = std::signal(SIGTERM, onInterrupt);
+  const auto started = std::chrono::steady_clock::now();
   for (int i = first; i < end && !g_interrupted; ++i) {
     io::RgbdImages images;
     if (!readFrame(dataset, i, events, images)) {
@@ -374,9 +377,13 @@ int runSlam(const RunOptions& o) {
                  << std::flush;
     }
     if (!o.quiet && (done % 50 == 0 || done == n)) {
-      std::fprintf(stderr, "  frame %4d/%d  tracked %5.1f%%  keyframes %3zu  map points %5zu  %.1f ms/frame  %.0f MiB\n",
+      // Time left at the wall-clock pace so far (the map's growth slows later frames a little).
+      const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      const long left_s = std::lround(elapsed_s / done * (n - done));
+      const std::string left = done < n ? fmt::format("  {}:{:02d} left", left_s / 60, left_s % 60) : "";
+      std::fprintf(stderr, "  frame %4d/%d  tracked %5.1f%%  keyframes %3zu  map points %5zu  %.1f ms/frame  %.0f MiB%s\n",
                    done, n, 100.0 * slam.framesTracked() / std::max(1, slam.framesProcessed()), slam.keyFrameCount(),
-                   slam.mapPointCount(), slam.timing().mean("total"), residentMemoryMiB());
+                   slam.mapPointCount(), slam.timing().mean("total"), residentMemoryMiB(), left.c_str());
     }
   }
   std::signal(SIGINT, previous_int);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <regex>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -368,6 +369,9 @@ TEST_P(InterruptTest, WritesTheOutputsComputedSoFar) {
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), signal == "INT" ? 130 : 143) << test::readFile(log);
   EXPECT_NE(test::readFile(log).find("interrupted (SIG" + signal + ") after"), std::string::npos)
+      << test::readFile(log);
+  // The progress line estimates the time left (m:ss).
+  EXPECT_TRUE(std::regex_search(test::readFile(log), std::regex("frame   50/[0-9]+  tracked .* MiB  [0-9]+:[0-5][0-9] left\n")))
       << test::readFile(log);
   const auto traj = io::readTumTrajectory((tmp / "out" / "trajectory.txt").string());
   EXPECT_GE(traj.size(), 50u);
