@@ -32,6 +32,7 @@ struct RunOptions {
   std::string config, dataset, out, mode, debug_dynamic;
   std::string load_map, save_map;  // map files (io/MapFile.h); empty: none
   std::string associations;        // association file instead of rgb.txt / depth.txt; empty: none
+  std::string model;               // detector model instead of the config's; empty: the config's
   int start_frame = 0;
   bool localize = false;  // track in the loaded map without changing it
   bool deterministic = false;
@@ -141,6 +142,7 @@ SlamConfig configFor(const RunOptions& o) {
   if (o.lookahead) config.dynamic.lookahead = true;
   if (o.detector_tiles > 0) config.dynamic.detector_tiles = o.detector_tiles;
   if (o.detector_size > 0) config.dynamic.detector.input_size = o.detector_size;
+  if (!o.model.empty()) config.dynamic.detector.model = o.model;  // relative to the working folder
   if (o.fast) {
     // Detection at about the cost of plain ORB tracking on a 2-core CPU (the benchmark's TKGt); the
     // options given explicitly win.
@@ -453,6 +455,8 @@ Action addRunCommand(CLI::App& app) {
   cmd->add_option("--loops", o->loops, "Play the sequence N times (soak test)")->check(positiveNumber());
   cmd->add_flag("-q,--quiet", o->quiet, "No progress lines");
   cmd->add_flag("--report", o->report, "Also write OUT/report.html (plots, 3-D view, timings)");
+  cmd->add_option("--model", o->model,
+                  "YOLOv5 ONNX model for the dynamic modes (overrides dynamic.model, which is relative to the config)");
   cmd->add_option("--mode", o->mode, "Dynamic handling: orb, T, TK, TG or TKG (overrides dynamic.mode)");
   cmd->add_option("--detect-every", o->detect_every, "Run the detector on every N-th frame (overrides the config)")
       ->check(positiveNumber());

@@ -114,6 +114,27 @@ TEST(RunCli, ARunIntoAnEarlierRunsFolderReplacesAllItsOutputs) {
   EXPECT_EQ(test::readFile(tmp / "out" / "report.html").find("Dynamic objects"), std::string::npos);
 }
 
+// A config copied away from the repository no longer finds the model by its relative path;
+// --model gives it (an installed tkgslam has no ../shared beside its configs).
+TEST(RunCli, ModelOverridesTheConfigsModel) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  const auto config = tmp / "a" / "b" / "fr1.yaml";
+  std::filesystem::create_directories(config.parent_path());
+  std::filesystem::copy_file(test::sourceDir() / "configs" / "tum_fr1.yaml", config);
+  const std::string run = "run --deterministic -q --mode TKG --max-frames 3 -c " + config.string() + " -d " +
+                          test::fr1xyz().string() + " -o " + (tmp / "out").string();
+  std::string out;
+  EXPECT_EQ(test::runCli(run, &out), 2) << out;
+  EXPECT_NE(out.find("detector: model file"), std::string::npos) << out;
+  const std::string model = (test::sharedDir() / "models" / "yolov5n-coco-640.onnx").string();
+  ASSERT_EQ(test::runCli(run + " --model " + model, &out), 0) << out;
+  EXPECT_NE(test::readFile(tmp / "out" / "config_used.yaml")
+                .find("model: " + std::filesystem::absolute(model).lexically_normal().string()),
+            std::string::npos)
+      << test::readFile(tmp / "out" / "config_used.yaml");
+}
+
 TEST(RunCli, ASavedMapPutsTheNextRunInItsWorldFrame) {
   TKGSLAM_REQUIRE_SHARED();
   test::TempDir tmp;
