@@ -264,7 +264,8 @@ void writeSummary(const RunOptions& o, const SlamConfig& config, const SlamSyste
                         "\"map_points\": {}, \"mean_ms_per_frame\": {:.2f}, \"median_ms_per_frame\": {:.2f}, "
                         "\"ratio_threshold\": {}, \"start_frame\": {}, \"map_loaded\": {}, \"map_saved\": {}, \"localization_only\": {}, "
                         "\"associations\": {}}}\n",
-                        TKGSLAM_VERSION, jsonPathOrNull(o.dataset), jsonPathOrNull(o.config), toString(config.dynamic.mode),
+                        TKGSLAM_VERSION, jsonPathOrNull(o.dataset), jsonPathOrNull(o.config),
+                        toString(config.dynamic.mode),
                         config.deterministic ? "true" : "false", n, traj.size(), ratio, events.predicted,
                         events.interpolated, events.blurred, events.skipped, slam.keyFrameCount(),
                         slam.mappingStats().keyframes_held, slam.loopStats().closed, slam.mapPointCount(),
@@ -383,8 +384,8 @@ int runSlam(const RunOptions& o) {
       const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
       const long left_s = std::lround(elapsed_s / done * (n - done));
       const std::string left = done < n ? fmt::format("  {}:{:02d} left", left_s / 60, left_s % 60) : "";
-      std::fprintf(stderr, "  frame %4d/%d  tracked %5.1f%%  keyframes %3zu  map points %5zu  %.1f ms/frame  %.0f MiB%s\n",
-                   done, n, 100.0 * slam.framesTracked() / std::max(1, slam.framesProcessed()), slam.keyFrameCount(),
+      std::fprintf(stderr,
+                   "  frame %4d/%d  tracked %5.1f%%  keyframes %3zu  map points %5zu  %.1f ms/frame  %.0f MiB%s\n", done, n, 100.0 * slam.framesTracked() / std::max(1, slam.framesProcessed()), slam.keyFrameCount(),
                    slam.mapPointCount(), slam.timing().mean("total"), residentMemoryMiB(), left.c_str());
     }
   }
