@@ -6,12 +6,14 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "SharedData.h"
+#include "tkgslam/common/Error.h"
 
 namespace tkgslam::test {
 
@@ -20,6 +22,16 @@ namespace tkgslam::test {
     if (::tkgslam::test::sharedDir().empty())                                                \
       GTEST_SKIP() << "../shared (datasets/models) not found next to the repository; skipped"; \
   } while (0)
+
+/// The message of the InputError `fn` throws; empty when it throws none.
+inline std::string inputErrorOf(const std::function<void()>& fn) {
+  try {
+    fn();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
 
 /// A fresh temporary directory, removed when the object dies.
 class TempDir {

@@ -16,22 +16,13 @@
 namespace tkgslam {
 namespace {
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(InputFile, SaysWhatIsWrongWithThePath) {
   test::TempDir tmp;
   const std::string missing = (tmp / "none.txt").string();
   const std::string folder = tmp.path().string();
-  EXPECT_EQ(errorOf([&] { io::openInputFile(missing, "config file"); }),
+  EXPECT_EQ(test::inputErrorOf([&] { io::openInputFile(missing, "config file"); }),
             "config file '" + missing + "' does not exist");
-  EXPECT_EQ(errorOf([&] { io::openInputFile(folder, "config file"); }),
+  EXPECT_EQ(test::inputErrorOf([&] { io::openInputFile(folder, "config file"); }),
             "config file '" + folder + "' is a folder, not a file");
   test::writeText(tmp / "ok.txt", "x");
   std::string text;
@@ -41,12 +32,12 @@ TEST(InputFile, SaysWhatIsWrongWithThePath) {
     const auto locked = tmp / "locked.txt";
     test::writeText(locked, "x");
     std::filesystem::permissions(locked, std::filesystem::perms::none);
-    EXPECT_EQ(errorOf([&] { io::openInputFile(locked.string(), "map file"); }),
+    EXPECT_EQ(test::inputErrorOf([&] { io::openInputFile(locked.string(), "map file"); }),
               "map file '" + locked.string() + "' cannot be read");
   }
   // The readers use it: a folder given as a trajectory or a config is named as one.
-  EXPECT_NE(errorOf([&] { io::readTumTrajectory(folder); }).find("is a folder, not a file"), std::string::npos);
-  EXPECT_NE(errorOf([&] { io::loadConfig(folder); }).find("is a folder, not a file"), std::string::npos);
+  EXPECT_NE(test::inputErrorOf([&] { io::readTumTrajectory(folder); }).find("is a folder, not a file"), std::string::npos);
+  EXPECT_NE(test::inputErrorOf([&] { io::loadConfig(folder); }).find("is a folder, not a file"), std::string::npos);
 }
 
 }  // namespace

@@ -32,15 +32,6 @@ void makeDataset(const std::filesystem::path& dir, int w = 64, int h = 48) {
   writeText(dir / "depth.txt", depth);
 }
 
-std::string errorOf(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(TumDataset, ReadsAssociatesAndConvertsDepthToMetres) {
   TempDir tmp;
   makeDataset(tmp.path());
@@ -66,21 +57,21 @@ TEST(TumDataset, LoopsRepeatTheSequenceWithIncreasingStamps) {
   for (int i = 1; i < 9; ++i) EXPECT_GT(ds.timestamp(i), ds.timestamp(i - 1));
   // More loops than a frame count can hold: refused, not a negative size.
   o.loops = std::numeric_limits<int>::max() / 3 + 1;
-  const auto msg = errorOf([&] { io::TumDataset(tmp.path().string(), o); });
+  const auto msg = test::inputErrorOf([&] { io::TumDataset(tmp.path().string(), o); });
   EXPECT_NE(msg.find("loops of the 3 frames"), std::string::npos) << msg;
   o.loops = std::numeric_limits<int>::max() / 3;
   EXPECT_EQ(io::TumDataset(tmp.path().string(), o).size(), std::numeric_limits<int>::max() / 3 * 3);
 }
 
 TEST(TumDataset, MissingFolder) {
-  EXPECT_NE(errorOf([] { io::TumDataset("/nonexistent/tkgslam"); }).find("does not exist"), std::string::npos);
+  EXPECT_NE(test::inputErrorOf([] { io::TumDataset("/nonexistent/tkgslam"); }).find("does not exist"), std::string::npos);
 }
 
 TEST(TumDataset, MissingList) {
   TempDir tmp;
   makeDataset(tmp.path());
   std::filesystem::remove(tmp / "depth.txt");
-  const auto msg = errorOf([&] { io::TumDataset(tmp.path().string()); });
+  const auto msg = test::inputErrorOf([&] { io::TumDataset(tmp.path().string()); });
   EXPECT_NE(msg.find("depth.txt"), std::string::npos) << msg;
 }
 
@@ -88,7 +79,7 @@ TEST(TumDataset, ListedImageAbsent) {
   TempDir tmp;
   makeDataset(tmp.path());
   std::filesystem::remove(tmp.path() / "rgb" / "101.000000.jpg");
-  const auto msg = errorOf([&] { io::TumDataset(tmp.path().string()); });
+  const auto msg = test::inputErrorOf([&] { io::TumDataset(tmp.path().string()); });
   EXPECT_NE(msg.find("101.000000.jpg"), std::string::npos) << msg;
 }
 
@@ -98,7 +89,7 @@ TEST(TumDataset, UnreadableImageNamesTheFile) {
   writeText(tmp.path() / "rgb" / "101.000000.jpg", "this is not a jpeg");
   io::TumDataset ds(tmp.path().string());
   EXPECT_NO_THROW(ds.load(0));
-  const auto msg = errorOf([&] { ds.load(1); });
+  const auto msg = test::inputErrorOf([&] { ds.load(1); });
   EXPECT_NE(msg.find("cannot read RGB image"), std::string::npos) << msg;
   EXPECT_NE(msg.find("101.000000.jpg"), std::string::npos) << msg;
 }
@@ -108,7 +99,7 @@ TEST(TumDataset, WrongDepthType) {
   makeDataset(tmp.path());
   cv::imwrite((tmp.path() / "depth" / "100.010000.png").string(), cv::Mat(48, 64, CV_8UC1, cv::Scalar(3)));
   io::TumDataset ds(tmp.path().string());
-  const auto msg = errorOf([&] { ds.load(0); });
+  const auto msg = test::inputErrorOf([&] { ds.load(0); });
   EXPECT_NE(msg.find("must be single-channel 16-bit (or 32-bit float metres); it is 8-bit with 1 channel"),
             std::string::npos)
       << msg;
@@ -121,7 +112,7 @@ TEST(TumDataset, WrongImageSize) {
   o.expected_width = 640;
   o.expected_height = 480;
   // A config for another camera is refused when the sequence is opened ...
-  const auto msg = errorOf([&] { io::TumDataset(tmp.path().string(), o); });
+  const auto msg = test::inputErrorOf([&] { io::TumDataset(tmp.path().string(), o); });
   EXPECT_NE(msg.find("are 64x48 but the camera config says 640x480"), std::string::npos) << msg;
   // ... and a single frame of another size in the middle is refused when it is loaded.
   o.expected_width = 64;
@@ -129,19 +120,19 @@ TEST(TumDataset, WrongImageSize) {
   cv::imwrite((tmp.path() / "rgb" / "102.000000.jpg").string(), cv::Mat(20, 30, CV_8UC3, cv::Scalar(1, 2, 3)));
   cv::imwrite((tmp.path() / "depth" / "102.010000.png").string(), cv::Mat(20, 30, CV_16UC1, cv::Scalar(1)));
   io::TumDataset ds(tmp.path().string(), o);
-  EXPECT_EQ(errorOf([&] { ds.load(0); }), "");
-  EXPECT_NE(errorOf([&] { ds.load(2); }).find("is 30x20 but the camera config says 64x48"), std::string::npos);
+  EXPECT_EQ(test::inputErrorOf([&] { ds.load(0); }), "");
+  EXPECT_NE(test::inputErrorOf([&] { ds.load(2); }).find("is 30x20 but the camera config says 64x48"), std::string::npos);
   // Depth and colour of different sizes.
   cv::imwrite((tmp.path() / "depth" / "101.010000.png").string(), cv::Mat(10, 10, CV_16UC1, cv::Scalar(1)));
   io::TumDataset ds2(tmp.path().string());
-  EXPECT_NE(errorOf([&] { ds2.load(1); }).find("is 10x10 but the RGB image is 64x48"), std::string::npos);
+  EXPECT_NE(test::inputErrorOf([&] { ds2.load(1); }).find("is 10x10 but the RGB image is 64x48"), std::string::npos);
 }
 
 TEST(TumDataset, NonMonotonicTimestamps) {
   TempDir tmp;
   makeDataset(tmp.path());
   writeText(tmp / "rgb.txt", "101.0 rgb/101.000000.jpg\n100.0 rgb/100.000000.jpg\n");
-  const auto msg = errorOf([&] { io::TumDataset(tmp.path().string()); });
+  const auto msg = test::inputErrorOf([&] { io::TumDataset(tmp.path().string()); });
   EXPECT_NE(msg.find("rgb.txt:2"), std::string::npos) << msg;
   EXPECT_NE(msg.find("must increase"), std::string::npos) << msg;
 }
@@ -150,7 +141,7 @@ TEST(TumDataset, MalformedTimestamp) {
   TempDir tmp;
   makeDataset(tmp.path());
   writeText(tmp / "depth.txt", "# header\n100.01 depth/100.010000.png\n1O1.01 depth/101.010000.png\n");
-  const auto msg = errorOf([&] { io::TumDataset(tmp.path().string()); });
+  const auto msg = test::inputErrorOf([&] { io::TumDataset(tmp.path().string()); });
   EXPECT_NE(msg.find("depth.txt:3: malformed timestamp '1O1.01'"), std::string::npos) << msg;
 }
 
@@ -158,14 +149,14 @@ TEST(TumDataset, MissingFileName) {
   TempDir tmp;
   makeDataset(tmp.path());
   writeText(tmp / "rgb.txt", "100.0\n");
-  EXPECT_NE(errorOf([&] { io::TumDataset(tmp.path().string()); }).find("rgb.txt:1"), std::string::npos);
+  EXPECT_NE(test::inputErrorOf([&] { io::TumDataset(tmp.path().string()); }).find("rgb.txt:1"), std::string::npos);
 }
 
 TEST(TumDataset, EmptyAssociation) {
   TempDir tmp;
   makeDataset(tmp.path());
   writeText(tmp / "depth.txt", "200.0 depth/100.010000.png\n");
-  const auto msg = errorOf([&] { io::TumDataset(tmp.path().string()); });
+  const auto msg = test::inputErrorOf([&] { io::TumDataset(tmp.path().string()); });
   EXPECT_NE(msg.find("no RGB image"), std::string::npos) << msg;
 }
 
@@ -213,7 +204,7 @@ TEST(TumDataset, AssociationFileErrorsNameTheFileAndLine) {
     writeText(tmp / "pairs.txt", text);
     io::TumDatasetOptions o;
     o.associations = (tmp / "pairs.txt").string();
-    return errorOf([&] { io::TumDataset(tmp.path().string(), o); });
+    return test::inputErrorOf([&] { io::TumDataset(tmp.path().string(), o); });
   };
   const std::string l0 = "100.0 rgb/100.000000.jpg 100.01 depth/100.010000.png\n";
   const std::string l1 = "101.0 rgb/101.000000.jpg 101.01 depth/101.010000.png\n";
@@ -238,11 +229,11 @@ TEST(TumDataset, AssociationFileErrorsNameTheFileAndLine) {
   EXPECT_NE(msg.find("has no entries"), std::string::npos) << msg;
   io::TumDatasetOptions o;
   o.associations = (tmp / "absent.txt").string();
-  msg = errorOf([&] { io::TumDataset(tmp.path().string(), o); });
+  msg = test::inputErrorOf([&] { io::TumDataset(tmp.path().string(), o); });
   EXPECT_NE(msg.find("absent.txt' does not exist"), std::string::npos) << msg;
   // Without the lists and without an association file, the error says what else would do.
   std::filesystem::remove(tmp / "rgb.txt");
-  msg = errorOf([&] { io::TumDataset(tmp.path().string()); });
+  msg = test::inputErrorOf([&] { io::TumDataset(tmp.path().string()); });
   EXPECT_NE(msg.find("missing image list"), std::string::npos) << msg;
   EXPECT_NE(msg.find("--associations"), std::string::npos) << msg;
 }
