@@ -83,14 +83,19 @@ TEST(FaultTolerance, BadFramesMidRunAreSkippedReportedAndTrackingRecovers) {
   for (const char* f : {"keyframes.txt", "map.ply", "timing.json", "run.json"}) EXPECT_TRUE(fs::exists(res / f)) << f;
 }
 
+/// Writes `tmp/seq`: `frames` frames of fr1_xyz whose colour images cannot be read.
+void writeUnreadableSequence(const test::TempDir& tmp, int frames) {
+  writeFaultySequence(
+      tmp / "seq", frames, [](int) { return false; }, [](int) { return FrameFault::Unreadable; },
+      [](int) { return FrameFault::None; });
+}
+
 // A sequence whose images all fail to load (wrong folder layout, a broken copy) has no result: the
 // run says so and exits with 2 instead of reporting success with an empty trajectory.
 TEST(FaultTolerance, ASequenceWithNoReadableFrameIsAnError) {
   TKGSLAM_REQUIRE_SHARED();
   test::TempDir tmp;
-  writeFaultySequence(
-      tmp / "seq", 4, [](int) { return false; }, [](int) { return FrameFault::Unreadable; },
-      [](int) { return FrameFault::None; });
+  writeUnreadableSequence(tmp, 4);
   std::string out;
   EXPECT_EQ(runSequence(tmp.path(), "out", "", out), 2) << out;
   EXPECT_NE(out.find("no frame could be read (4 tried; see"), std::string::npos) << out;
@@ -103,9 +108,7 @@ TEST(FaultTolerance, ASequenceWithNoReadableFrameIsAnError) {
 TEST(FaultTolerance, ASequenceThatStartsUnreadableStopsEarly) {
   TKGSLAM_REQUIRE_SHARED();
   test::TempDir tmp;
-  writeFaultySequence(
-      tmp / "seq", 30, [](int) { return false; }, [](int) { return FrameFault::Unreadable; },
-      [](int) { return FrameFault::None; });
+  writeUnreadableSequence(tmp, 30);
   std::string out;
   EXPECT_EQ(runSequence(tmp.path(), "out", "", out), 2) << out;
   EXPECT_NE(out.find("no frame could be read (20 tried, the rest not; see"), std::string::npos) << out;
