@@ -72,6 +72,37 @@ TEST(Ate, DisjointTimestampsAreAnInputError) {
   EXPECT_THROW(eval::computeAte(gt, est), InputError);
 }
 
+/// The message of computeAte's InputError for these trajectories.
+std::string ateError(const std::vector<io::TrajectoryEntry>& gt, const std::vector<io::TrajectoryEntry>& est) {
+  try {
+    eval::computeAte(gt, est);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// When nothing pairs up, the stamps often say why: another unit (EuRoC's nanoseconds), no overlap
+// in time, or too few poses.
+TEST(Ate, TheErrorWhenNothingPairsUpSaysWhy) {
+  std::vector<io::TrajectoryEntry> gt, ns, ms, later;
+  for (int i = 0; i < 20; ++i) {
+    const double t = 1305031102.0 + 0.1 * i;
+    gt.push_back(entry(t, Vec3(0.1 * i, 0, 0)));
+    ns.push_back(entry(t * 1e9, Vec3(0.1 * i, 0, 0)));
+    ms.push_back(entry(t * 1e3, Vec3(0.1 * i, 0, 0)));
+    later.push_back(entry(t + 100, Vec3(0.1 * i, 0, 0)));
+  }
+  EXPECT_NE(ateError(gt, ns).find("the estimate's timestamps are 1e+09 times the ground truth's - nanoseconds?"),
+            std::string::npos)
+      << ateError(gt, ns);
+  EXPECT_NE(ateError(ms, gt).find("the ground truth's timestamps are 1000 times the estimate's - milliseconds?"),
+            std::string::npos)
+      << ateError(ms, gt);
+  EXPECT_NE(ateError(gt, later).find("which do not overlap"), std::string::npos) << ateError(gt, later);
+  EXPECT_NE(ateError(gt, {gt[3]}).find(": the estimate has 1 pose(s)"), std::string::npos) << ateError(gt, {gt[3]});
+}
+
 TEST(Rpe, ConstantDriftPerSecondIsMeasured) {
   // Estimate moves 1 cm/s more than ground truth along x: RPE(1 s) = 1 cm for every pair.
   std::vector<io::TrajectoryEntry> gt, est;

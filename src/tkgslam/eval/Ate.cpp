@@ -1,5 +1,9 @@
 #include "tkgslam/eval/Ate.h"
 
+#include <cmath>
+#include <string>
+#include <utility>
+
 #include <Eigen/SVD>
 #include <fmt/format.h>
 
@@ -37,14 +41,42 @@ Pose alignRigid(const std::vector<Vec3>& model, const std::vector<Vec3>& data) {
   return T;
 }
 
+namespace {
+
+/// Why no timestamps pair up, when the stamps say: another unit, or no overlap in time.
+std::string whyNoPairs(const std::vector<io::TrajectoryEntry>& gt, const std::vector<io::TrajectoryEntry>& est) {
+  if (gt.size() < 2 || est.size() < 2) {
+    return fmt::format(": the {} has {} pose(s)", gt.size() < 2 ? "ground truth" : "estimate",
+                       gt.size() < 2 ? gt.size() : est.size());
+  }
+  const double g0 = gt.front().timestamp, g1 = gt.back().timestamp;
+  const double e0 = est.front().timestamp, e1 = est.back().timestamp;
+  for (const auto& [factor, unit] : {std::pair{1e9, "nanoseconds"}, {1e6, "microseconds"}, {1e3, "milliseconds"}}) {
+    if (g0 > 0 && std::abs(e0 / (g0 * factor) - 1) < 0.01) {
+      return fmt::format(": the estimate's timestamps are {:g} times the ground truth's - {}? (TUM's are seconds)",
+                         factor, unit);
+    }
+    if (e0 > 0 && std::abs(g0 / (e0 * factor) - 1) < 0.01) {
+      return fmt::format(": the ground truth's timestamps are {:g} times the estimate's - {}? (TUM's are seconds)",
+                         factor, unit);
+    }
+  }
+  if (e1 < g0 || e0 > g1) {
+    return fmt::format(": the estimate spans {:.3f}-{:.3f} s and the ground truth {:.3f}-{:.3f} s, which do not "
+                       "overlap (eval --offset shifts the estimate)",
+                       e0, e1, g0, g1);
+  }
+  return "; are these the right files?";
+}
+
+}  // namespace
+
 AteResult computeAte(const std::vector<io::TrajectoryEntry>& ground_truth,
                      const std::vector<io::TrajectoryEntry>& estimate, double max_time_difference) {
   const auto pairs = associateTimestamps(stampsOf(ground_truth), stampsOf(estimate), max_time_difference);
   if (pairs.size() < 2) {
-    throw InputError(
-        fmt::format("fewer than 2 timestamps of the estimate match the ground truth (|dt| < {:g} s); "
-                    "are these the right files?",
-                    max_time_difference));
+    throw InputError(fmt::format("fewer than 2 timestamps of the estimate match the ground truth (|dt| < {:g} s){}",
+                                 max_time_difference, whyNoPairs(ground_truth, estimate)));
   }
   AteResult r;
   std::vector<Vec3> est;
