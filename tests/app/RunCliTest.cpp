@@ -1,6 +1,7 @@
 // tkgslam run's outputs as a user relies on them.
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 
 #include <fmt/format.h>
 
@@ -133,6 +134,35 @@ TEST(RunCli, ModelOverridesTheConfigsModel) {
                 .find("model: " + std::filesystem::absolute(model).lexically_normal().string()),
             std::string::npos)
       << test::readFile(tmp / "out" / "config_used.yaml");
+}
+
+// A ground truth that does not fit the sequence (here in nanoseconds) costs the ATE, not the run:
+// exit 0 with a warning, and a report without the accuracy plots.
+TEST(RunCli, AGroundTruthThatDoesNotFitIsAWarning) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  const auto seq = tmp / "seq";
+  std::filesystem::create_directories(seq);
+  for (const char* f : {"rgb", "depth"}) std::filesystem::create_directory_symlink(test::fr1xyz() / f, seq / f);
+  for (const char* f : {"rgb.txt", "depth.txt"}) std::filesystem::copy_file(test::fr1xyz() / f, seq / f);
+  std::ifstream in(test::fr1xyz() / "groundtruth.txt");
+  std::string line, gt;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    const auto dot = line.find('.');
+    gt += line.substr(0, dot) + line.substr(dot + 1, 4) + "00000" + line.substr(line.find(' ')) + "\n";  // ns
+  }
+  test::writeText(seq / "groundtruth.txt", gt);
+  std::string out;
+  ASSERT_EQ(test::runCli("run --deterministic --max-frames 5 --report -c " +
+                             (test::sourceDir() / "configs" / "tum_fr1.yaml").string() + " -d " + seq.string() +
+                             " -o " + (tmp / "out").string(),
+                         &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("ATE not computed against"), std::string::npos) << out;
+  EXPECT_NE(out.find("times the estimate's - nanoseconds?"), std::string::npos) << out;
+  EXPECT_NE(test::readFile(tmp / "out" / "report.html").find("Ground truth not used: "), std::string::npos);
 }
 
 TEST(RunCli, ASavedMapPutsTheNextRunInItsWorldFrame) {

@@ -42,7 +42,8 @@ TEST(SequenceAugmenter, TheCliRefusesBadSizesBeforeCuttingPeopleOut) {
 }
 
 /// Runs `augment` with the fr1 config on a 2-frame sequence of `size` with depth of `depth_type`.
-int augmentTinySequence(const test::TempDir& tmp, cv::Size size, int depth_type, std::string& out) {
+int augmentTinySequence(const test::TempDir& tmp, cv::Size size, int depth_type, std::string& out,
+                        const std::string& gt_unit = "") {
   const auto seq = tmp / "seq";
   std::filesystem::create_directories(seq / "rgb");
   std::filesystem::create_directories(seq / "depth");
@@ -53,7 +54,7 @@ int augmentTinySequence(const test::TempDir& tmp, cv::Size size, int depth_type,
     cv::imwrite((seq / "depth" / (t + ".png")).string(), cv::Mat(size, depth_type, cv::Scalar(200)));
     rgb += t + " rgb/" + t + ".png\n";
     depth += t + " depth/" + t + ".png\n";
-    gt += t + " 0 0 0 0 0 0 1\n";
+    gt += t + gt_unit + " 0 0 0 0 0 0 1\n";
   }
   test::writeText(seq / "rgb.txt", rgb);
   test::writeText(seq / "depth.txt", depth);
@@ -83,6 +84,18 @@ TEST(SequenceAugmenter, TheCliRefusesASequenceItCannotUseBeforeCuttingPeopleOut)
         << out;
     EXPECT_EQ(out.find("cutting the people out"), std::string::npos) << out;
   }
+}
+
+// The people are placed with the camera's true pose: a ground truth whose stamps are in another
+// unit would give every frame the same (wrong) pose without a word.
+TEST(SequenceAugmenter, TheCliRefusesAGroundTruthThatDoesNotCoverTheFrames) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  std::string out;
+  EXPECT_EQ(augmentTinySequence(tmp, cv::Size(640, 480), CV_16UC1, out, "000000000"), 2) << out;  // nanoseconds
+  EXPECT_NE(out.find("augment: frame 0 (100.000000 s) has no ground-truth pose within 0.1 s"), std::string::npos)
+      << out;
+  EXPECT_EQ(out.find("cutting the people out"), std::string::npos) << out;
 }
 
 // Writing the composite over its own source would replace the original depth images and lists.

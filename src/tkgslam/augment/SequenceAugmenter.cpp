@@ -1,5 +1,6 @@
 #include "tkgslam/augment/SequenceAugmenter.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -48,6 +49,22 @@ void checkAugmentOptions(const AugmentOptions& o) {
   }
 }
 
+void checkGroundTruthCovers(const io::TumDataset& ds, const std::vector<io::TrajectoryEntry>& gt, int max_frames) {
+  if (gt.size() < 2) throw InputError("augment: the dataset needs a ground-truth trajectory");
+  std::vector<double> gt_stamps;
+  for (const auto& e : gt) gt_stamps.push_back(e.timestamp);
+  const int n = max_frames > 0 ? std::min(max_frames, ds.size()) : ds.size();
+  for (int i = 0; i < n; ++i) {
+    const double t = ds.timestamp(i);
+    const double gap = std::abs(gt_stamps[size_t(eval::findClosestIndex(gt_stamps, t))] - t);
+    if (gap > kMaxGroundTruthGap) {
+      throw InputError(fmt::format("augment: frame {} ({:.6f} s) has no ground-truth pose within {} s (the nearest is "
+                                   "{:.3f} s away); the ground truth must cover the frames, in seconds",
+                                   i, t, kMaxGroundTruthGap, gap));
+    }
+  }
+}
+
 AugmentStats augmentSequence(const io::TumDataset& ds, const std::vector<io::TrajectoryEntry>& gt,
                              const std::vector<PersonCutout>& cutouts, const camera::PinholeCamera& cam,
                              double depth_factor, const std::string& out_dir, const AugmentOptions& o,
@@ -55,13 +72,13 @@ AugmentStats augmentSequence(const io::TumDataset& ds, const std::vector<io::Tra
   if (gt.size() < 2) throw InputError("augment: the dataset needs a ground-truth trajectory");
   if (cutouts.empty()) throw InputError("augment: no person cut-outs");
   checkAugmentOptions(o);
-  const fs::path out(out_dir);
-  for (const char* sub : {"rgb", "depth", "masks"}) io::createOutputFolder((out / sub).string());
   std::vector<double> gt_stamps;
   for (const auto& e : gt) gt_stamps.push_back(e.timestamp);
   auto gtPose = [&](double t) { return gt[eval::findClosestIndex(gt_stamps, t)].pose(); };  // T_wc
-
   const int n = o.max_frames > 0 ? std::min(o.max_frames, ds.size()) : ds.size();
+  checkGroundTruthCovers(ds, gt, o.max_frames);
+  const fs::path out(out_dir);
+  for (const char* sub : {"rgb", "depth", "masks"}) io::createOutputFolder((out / sub).string());
   std::mt19937_64 rng(o.seed);
   std::uniform_real_distribution<double> U(0.0, 1.0);
   const double t0 = ds.timestamp(0);

@@ -48,6 +48,15 @@ struct AugmentStats {
 /// Throws InputError unless people >= 1 and 0 < min_size <= max_size <= 1.5.
 void checkAugmentOptions(const AugmentOptions& options);
 
+/// Largest distance (s) from a frame to its nearest ground-truth pose (fr1_xyz: 0.041 s at most).
+constexpr double kMaxGroundTruthGap = 0.1;
+
+/// Throws InputError unless every frame to be composited (the first `max_frames`, 0 = all) has a
+/// ground-truth pose within kMaxGroundTruthGap: the people are placed with the camera's true pose,
+/// and stamps in another unit or a ground truth of another part of the sequence would give wrong ones.
+void checkGroundTruthCovers(const io::TumDataset& dataset, const std::vector<io::TrajectoryEntry>& ground_truth,
+                            int max_frames);
+
 /// Called after each frame written: frames done and the total.
 using AugmentProgress = std::function<void(int done, int total)>;
 

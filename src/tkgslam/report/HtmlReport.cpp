@@ -179,8 +179,15 @@ AccuracySection accuracySection(const std::string& dataset, const std::vector<io
   if (dataset.empty() || !fs::is_regular_file(gt_path) || traj.size() < 2) {
     return {"", "<p>No ground truth: accuracy plots omitted.</p>"};
   }
-  const auto gt = io::readTumTrajectory(gt_path.string());
-  const auto ate = eval::computeAte(gt, traj);
+  std::vector<io::TrajectoryEntry> gt;
+  eval::AteResult ate;
+  try {
+    gt = io::readTumTrajectory(gt_path.string());
+    ate = eval::computeAte(gt, traj);
+  } catch (const InputError& e) {
+    // A ground truth that does not fit (another time unit, another sequence) costs the plots, not the report.
+    return {"", fmt::format("<p>Ground truth not used: {}</p>", escapeXml(e.what()))};
+  }
   AccuracySection a;
   a.rows = fmt::format("<tr><th>ATE RMSE</th><td>{:.4f} m ({} poses)</td></tr>", ate.stats.rmse, ate.stats.count);
   std::string rpe_figure;
@@ -191,8 +198,8 @@ AccuracySection accuracySection(const std::string& dataset, const std::vector<io
     Series s{"translational RPE (m)", "#d62728", {}, rpe.translation_errors};
     for (double t : rpe.timestamps) s.x.push_back(t - traj.front().timestamp);
     rpe_figure = svgLinePlot("RPE over time (1 s)", "time (s)", "m", {s});
-  } catch (const InputError&) {
-    rpe_figure = "<p>RPE: the trajectory is shorter than 1 s.</p>";
+  } catch (const InputError& e) {
+    rpe_figure = fmt::format("<p>RPE not computed: {}.</p>", escapeXml(e.what()));
   }
   a.figures = "<h2>Trajectory vs ground truth</h2><div class=\"row traj\">";
   a.figures += eval::renderTrajectorySvg(ate, "top view", 0, 1);
