@@ -39,7 +39,7 @@ int runAugment(const AugmentCliOptions& o) {
   const auto gt_path = dataset.groundTruthPath();
   if (!gt_path) throw InputError("augment: the dataset has no groundtruth.txt");
   const auto gt = io::readTumTrajectory(*gt_path);
-  augment::checkGroundTruthCovers(dataset, gt, o.options.max_frames);
+  augment::checkGroundTruthCovers(dataset, gt, o.options.max_frames);  // before the cut-outs, not after
   auto det_params = config.dynamic.detector;
   // The cut-outs are picked by the letterboxed square detector whatever the run's setting, so one
   // seed gives the same composite as the published benchmark (fitted, 2 more photos yield one).

@@ -41,9 +41,10 @@ TEST(SequenceAugmenter, TheCliRefusesBadSizesBeforeCuttingPeopleOut) {
   EXPECT_FALSE(std::filesystem::exists(tmp / "aug")) << "nothing is written for a refused run";
 }
 
-/// Runs `augment` with the fr1 config on a 2-frame sequence of `size` with depth of `depth_type`.
-int augmentTinySequence(const test::TempDir& tmp, cv::Size size, int depth_type, std::string& out,
-                        const std::string& gt_unit = "") {
+/// Writes `tmp/seq`: 2 frames of `size` with depth of `depth_type`, ground-truth stamps followed by
+/// `gt_unit` (e.g. "000000000": nanoseconds).
+std::filesystem::path writeTinySequence(const test::TempDir& tmp, cv::Size size, int depth_type,
+                                        const std::string& gt_unit = "") {
   const auto seq = tmp / "seq";
   std::filesystem::create_directories(seq / "rgb");
   std::filesystem::create_directories(seq / "depth");
@@ -59,10 +60,21 @@ int augmentTinySequence(const test::TempDir& tmp, cv::Size size, int depth_type,
   test::writeText(seq / "rgb.txt", rgb);
   test::writeText(seq / "depth.txt", depth);
   test::writeText(seq / "groundtruth.txt", gt);
+  return seq;
+}
+
+/// Runs `augment` with the fr1 config from `seq` into `out_dir`.
+int augmentCli(const std::filesystem::path& seq, const std::filesystem::path& out_dir, std::string& out) {
   return test::runCli("augment -c " + (test::sourceDir() / "configs" / "tum_fr1.yaml").string() + " -d " +
                           seq.string() + " -p " + (test::sharedDir() / "datasets" / "people").string() + " -o " +
-                          (tmp / "aug").string(),
+                          out_dir.string(),
                       &out);
+}
+
+/// Runs `augment` with the fr1 config on a 2-frame sequence of `size` with depth of `depth_type`.
+int augmentTinySequence(const test::TempDir& tmp, cv::Size size, int depth_type, std::string& out,
+                        const std::string& gt_unit = "") {
+  return augmentCli(writeTinySequence(tmp, size, depth_type, gt_unit), tmp / "aug", out);
 }
 
 // The people are projected with the config's camera and their depth written into the depth images:
@@ -105,11 +117,7 @@ TEST(SequenceAugmenter, TheCliRefusesToWriteIntoTheSourceSequence) {
   std::string out;
   ASSERT_EQ(augmentTinySequence(tmp, cv::Size(640, 480), CV_16UC1, out), 0) << out;
   const std::string depth_list = test::readFile(tmp / "seq" / "depth.txt");
-  EXPECT_EQ(test::runCli("augment -c " + (test::sourceDir() / "configs" / "tum_fr1.yaml").string() + " -d " +
-                             (tmp / "seq").string() + " -p " + (test::sharedDir() / "datasets" / "people").string() +
-                             " -o " + (tmp / "seq" / "." / "").string(),
-                         &out),
-            2);
+  EXPECT_EQ(augmentCli(tmp / "seq", tmp / "seq" / "." / "", out), 2);
   EXPECT_NE(out.find("is the --dataset folder"), std::string::npos) << out;
   EXPECT_EQ(test::readFile(tmp / "seq" / "depth.txt"), depth_list);
 }

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "TestSupport.h"
 #include "tkgslam/common/Error.h"
 #include "tkgslam/eval/Association.h"
 #include "tkgslam/eval/Ate.h"
@@ -74,12 +75,7 @@ TEST(Ate, DisjointTimestampsAreAnInputError) {
 
 /// The message of computeAte's InputError for these trajectories.
 std::string ateError(const std::vector<io::TrajectoryEntry>& gt, const std::vector<io::TrajectoryEntry>& est) {
-  try {
-    eval::computeAte(gt, est);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return test::inputErrorOf([&] { eval::computeAte(gt, est); });
 }
 
 // When nothing pairs up, the stamps often say why: another unit (EuRoC's nanoseconds), no overlap

@@ -69,7 +69,6 @@ AugmentStats augmentSequence(const io::TumDataset& ds, const std::vector<io::Tra
                              const std::vector<PersonCutout>& cutouts, const camera::PinholeCamera& cam,
                              double depth_factor, const std::string& out_dir, const AugmentOptions& o,
                              const AugmentProgress& progress) {
-  if (gt.size() < 2) throw InputError("augment: the dataset needs a ground-truth trajectory");
   if (cutouts.empty()) throw InputError("augment: no person cut-outs");
   checkAugmentOptions(o);
   std::vector<double> gt_stamps;

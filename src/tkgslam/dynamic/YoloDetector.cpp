@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <iterator>
 
@@ -12,6 +11,7 @@
 
 #include "tkgslam/common/Error.h"
 #include "tkgslam/dynamic/YoloHeadResize.h"
+#include "tkgslam/io/InputFile.h"
 
 namespace tkgslam::dynamic {
 
@@ -136,14 +136,7 @@ std::vector<int> defaultDynamicClasses() {
 
 YoloDetector::YoloDetector(const DetectorParams& params) : params_(params) {
   if (params_.model.empty()) throw InputError("detector: no model path configured (dynamic.model)");
-  if (!std::filesystem::is_regular_file(params_.model)) {
-    const std::filesystem::path model(params_.model);
-    // A relative path is taken from the working folder (or the config file's): say where that was.
-    const std::string where =
-        model.is_relative() ? fmt::format(" ({})", std::filesystem::absolute(model).lexically_normal().string()) : "";
-    throw InputError(fmt::format("detector: model file '{}'{} {}", params_.model, where,
-                                 std::filesystem::is_directory(model) ? "is a folder" : "does not exist"));
-  }
+  std::ifstream file = io::openInputFile(params_.model, "detector: model file", std::ios::binary);
   if (!DetectorParams::validInputSize(params_.input_size)) {
     throw InputError(fmt::format("detector: input size {} must be a multiple of 32 from 64 to {}", params_.input_size,
                                  DetectorParams::kMaxInputSize));
@@ -152,12 +145,8 @@ YoloDetector::YoloDetector(const DetectorParams& params) : params_(params) {
       !(params_.nms > 0 && params_.nms <= 1)) {
     throw InputError("detector: confidence thresholds must be in (0, 1) and nms in (0, 1]");
   }
-  {
-    std::ifstream file(params_.model, std::ios::binary);
-    if (!file) throw InputError(fmt::format("detector: cannot read model file '{}'", params_.model));
-    model_bytes_.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
-    if (model_bytes_.empty()) throw InputError(fmt::format("detector: ONNX model '{}' is empty", params_.model));
-  }
+  model_bytes_.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+  if (model_bytes_.empty()) throw InputError(fmt::format("detector: ONNX model '{}' is empty", params_.model));
   cv::Mat out;
   try {
     net_ = load();

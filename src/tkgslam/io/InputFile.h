@@ -7,8 +7,9 @@
 
 namespace tkgslam::io {
 
-/// Opens `path` for reading. Throws InputError "<what> '<path>' does not exist", "... is a folder,
-/// not a file" or "... cannot be read" (`what` e.g. "config file").
+/// Opens `path` for reading. Throws InputError "<what> '<path>' does not exist" (a relative path
+/// followed by where it was looked for), "... is a folder, not a file" or "... cannot be read"
+/// (`what` e.g. "config file").
 std::ifstream openInputFile(const std::string& path, const std::string& what,
                             std::ios::openmode mode = std::ios::in);
 
