@@ -16,6 +16,7 @@
 #include "tkgslam/eval/TrajectoryPlot.h"
 #include "tkgslam/io/TumDataset.h"
 #include "tkgslam/io/InputFile.h"
+#include "tkgslam/io/OutputFile.h"
 
 namespace tkgslam::app {
 
@@ -54,16 +55,14 @@ int countInputFrames(const std::string& path) {
 
 /// One line per associated pose: where the error is (evo's per-pose plots, in a table).
 void writeAteErrors(const std::string& path, const eval::AteResult& ate) {
-  std::ofstream out(path);
-  if (!out) throw InputError(fmt::format("cannot write '{}'", path));
-  out << "# timestamp ate_m gt_x gt_y gt_z est_x est_y est_z (metres, estimate aligned to ground truth)\n";
+  std::string text = "# timestamp ate_m gt_x gt_y gt_z est_x est_y est_z (metres, estimate aligned to ground truth)\n";
   for (size_t i = 0; i < ate.errors.size(); ++i) {
     const Vec3& g = ate.gt_positions[i];
     const Vec3& e = ate.est_aligned[i];
-    out << fmt::format("{:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f}\n", ate.timestamps[i], ate.errors[i],
-                       g.x(), g.y(), g.z(), e.x(), e.y(), e.z());
+    text += fmt::format("{:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f}\n", ate.timestamps[i], ate.errors[i],
+                        g.x(), g.y(), g.z(), e.x(), e.y(), e.z());
   }
-  if (!out) throw InputError(fmt::format("cannot write '{}'", path));
+  io::writeOutputFile(path, "error file", text);
 }
 
 int runEval(const EvalOptions& o) {

@@ -2,9 +2,9 @@
 // frame_log.txt of `tkgslam run`: one line per frame without a tracked pose, and per other event
 // (predicted, interpolated, blurred, new segment, re-anchored, skipped), with their counts.
 #include <filesystem>
-#include <fstream>
 #include <string>
 
+#include "tkgslam/io/OutputFile.h"
 #include "tkgslam/system/SlamSystem.h"
 
 namespace tkgslam::app {
@@ -18,6 +18,8 @@ class FrameEventLog {
   void add(const FrameOutcome& f);
   /// A frame that could not be read (`timestamp` in seconds).
   void addSkipped(double timestamp, const std::string& why);
+  /// Closes the file; throws InputError if anything could not be written (disk full).
+  void finish() { out_.finish(); }
 
   /// How many of each event were logged.
   struct Counts {
@@ -34,7 +36,7 @@ class FrameEventLog {
   const std::string& firstSkipReason() const { return first_skip_reason_; }
 
  private:
-  std::ofstream out_;
+  io::OutputLog out_;
   Counts counts_;
   std::string first_skip_reason_;
 };

@@ -6,7 +6,6 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -18,6 +17,7 @@
 #include "tkgslam/common/ResidentMemory.h"
 #include "tkgslam/eval/Ate.h"
 #include "tkgslam/io/ConfigFile.h"
+#include "tkgslam/io/OutputFile.h"
 #include "tkgslam/io/OutputFolder.h"
 #include "tkgslam/io/TrajectoryFile.h"
 #include "tkgslam/io/TumDataset.h"
@@ -80,36 +80,34 @@ std::string jsonPathOrNull(const std::string& path) {
 }
 
 void writeText(const std::filesystem::path& p, const std::string& text) {
-  std::ofstream out(p);
-  if (!out) throw InputError(fmt::format("cannot write '{}'", p.string()));
-  out << text;
+  io::writeOutputFile(p.string(), "output file", text);
 }
 
 /// One JSON object per frame: boxes (detected / predicted), T, and the dropped keypoints.
 void writeDynamicDebug(const std::string& path, const std::vector<DynamicFrameInfo>& info) {
-  std::ofstream out(path);
-  if (!out) throw InputError(fmt::format("cannot write '{}'", path));
+  std::string out;
   for (const auto& f : info) {
-    out << fmt::format("{{\"timestamp\": {:.6f}, \"T\": {:.4f}, \"geometry\": {}, \"keypoints\": {}, \"dropped\": {}, "
+    out += fmt::format("{{\"timestamp\": {:.6f}, \"T\": {:.4f}, \"geometry\": {}, \"keypoints\": {}, \"dropped\": {}, "
                        "\"readmitted\": {}, \"unboxed\": {}, \"boxes\": [",
                        f.timestamp, f.box_ratio, f.geometry ? "true" : "false", f.keypoints, f.dropped, f.readmitted,
                        f.unboxed);
     for (size_t i = 0; i < f.boxes.size(); ++i) {
       const auto& b = f.boxes[i];
-      out << fmt::format("{}{{\"x\": {:.1f}, \"y\": {:.1f}, \"w\": {:.1f}, \"h\": {:.1f}, \"class\": {}, "
+      out += fmt::format("{}{{\"x\": {:.1f}, \"y\": {:.1f}, \"w\": {:.1f}, \"h\": {:.1f}, \"class\": {}, "
                          "\"score\": {:.3f}, \"predicted\": {}, \"track\": {}}}",
                          i ? ", " : "", b.box.x, b.box.y, b.box.width, b.box.height, b.class_id, b.score,
                          b.predicted ? "true" : "false", b.track_id);
     }
-    out << "]";
-    if (f.missed_dynamic >= 0) out << fmt::format(", \"missed_dynamic\": {}", f.missed_dynamic);
-    if (f.late_culled > 0) out << fmt::format(", \"late_culled\": {}", f.late_culled);
-    out << ", \"dropped_points\": [";
+    out += "]";
+    if (f.missed_dynamic >= 0) out += fmt::format(", \"missed_dynamic\": {}", f.missed_dynamic);
+    if (f.late_culled > 0) out += fmt::format(", \"late_culled\": {}", f.late_culled);
+    out += ", \"dropped_points\": [";
     for (size_t i = 0; i < f.dropped_points.size(); ++i) {
-      out << fmt::format("{}[{:.0f}, {:.0f}]", i ? ", " : "", f.dropped_points[i].x, f.dropped_points[i].y);
+      out += fmt::format("{}[{:.0f}, {:.0f}]", i ? ", " : "", f.dropped_points[i].x, f.dropped_points[i].y);
     }
-    out << "]}\n";
+    out += "]}\n";
   }
+  io::writeOutputFile(path, "dynamic debug file", out);
 }
 
 // The configuration the run used - the file with the command line's options applied, every key,
@@ -358,8 +356,8 @@ int runSlam(const RunOptions& o) {
   // Frames that produced no pose, only a predicted one or were blurred, and why.
   FrameEventLog events(out / "frame_log.txt");
   // Resident memory every 100 frames: long (--loops) runs must stay flat once the map stops growing.
-  std::ofstream memory_log(out / "memory.tsv");
-  memory_log << "frame\trss_mib\tkeyframes\tmap_points\n";
+  io::OutputLog memory_log((out / "memory.tsv").string(), "memory log");
+  memory_log.write("frame\trss_mib\tkeyframes\tmap_points\n");
   // Ctrl-C or SIGTERM stops after the current frame; everything computed so far is still written.
   g_interrupted = 0;
   const auto previous_int = std::signal(SIGINT, onInterrupt);
@@ -380,9 +378,8 @@ int runSlam(const RunOptions& o) {
     for (const auto& f : slam.processFrame(images)) events.add(f);
     const int done = i + 1 - first;
     if (done % 100 == 0 || done == n) {
-      memory_log << fmt::format("{}\t{:.1f}\t{}\t{}\n", done, residentMemoryMiB(), slam.keyFrameCount(),
-                                slam.mapPointCount())
-                 << std::flush;
+      memory_log.write(
+          fmt::format("{}\t{:.1f}\t{}\t{}\n", done, residentMemoryMiB(), slam.keyFrameCount(), slam.mapPointCount()));
     }
     if (!o.quiet && (done % 50 == 0 || done == n)) {
       // Time left at the wall-clock pace so far (the map's growth slows later frames a little).
@@ -403,6 +400,8 @@ int runSlam(const RunOptions& o) {
   }
   if (stopped_early) n = events.counts().skipped;  // the summary covers the frames tried
   for (const auto& f : slam.finish()) events.add(f);
+  events.finish();
+  memory_log.finish();
 
   const auto traj = slam.trajectory();
   writeOutputs(o, config, slam, traj);

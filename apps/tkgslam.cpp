@@ -1,5 +1,6 @@
 // tkgslam: RGB-D SLAM for dynamic scenes. Thin CLI over libtkgslam.
 // Exit codes: 0 success, 1 internal error, 2 bad input (files, config, arguments).
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <map>
@@ -12,6 +13,9 @@
 #include "tkgslam/common/Error.h"
 
 int main(int argc, char** argv) {
+  // Past a file-size limit (ulimit -f) a write then fails with EFBIG and is reported like a full
+  // disk, instead of the signal ending the process with half-written outputs.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"tkgslam - RGB-D SLAM that keeps working when people fill the view"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("tkgslam ") + TKGSLAM_VERSION);

@@ -1,4 +1,5 @@
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -181,6 +182,13 @@ TEST(EvalCli, BadInputExitsWithTwoAndAMessage) {
   EXPECT_NE(out.find("--max-difference: must be more than 0"), std::string::npos) << out;
   EXPECT_EQ(test::runCli("eval --delta-unit ms" + files, &out), 2);
   EXPECT_NE(out.find("--delta-unit: ms not in {s,f,m,rad,deg}"), std::string::npos) << out;
+  // Outputs that cannot be written: a full disk is an error, not a plot cut short.
+  if (std::filesystem::exists("/dev/full")) {
+    EXPECT_EQ(test::runCli("eval --plot /dev/full" + files, &out), 2);
+    EXPECT_NE(out.find("cannot write plot '/dev/full': No space left on device"), std::string::npos) << out;
+    EXPECT_EQ(test::runCli("eval --errors /dev/full" + files, &out), 2);
+    EXPECT_NE(out.find("cannot write error file '/dev/full': No space left on device"), std::string::npos) << out;
+  }
 }
 
 }  // namespace

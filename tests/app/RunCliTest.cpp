@@ -261,6 +261,24 @@ TEST(RunCli, ASavedMapPutsTheNextRunInItsWorldFrame) {
 }
 
 // ORB-SLAM2 users have association files: the same pairs from one give the same run.
+TEST(RunCli, AFullDiskIsAnErrorAndLeavesNoPartOfAFile) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  const auto out_dir = tmp / "out";
+  // A file-size limit stands in for a full disk. dash's ulimit -f counts 512-byte blocks (bash's
+  // 1024): the 30-frame map's PLY (~40 KB) is over either, its trajectory (~3 KB) under both.
+  std::string out;
+  const std::string run = " run --deterministic -q --max-frames 30 -c " +
+                          (test::sourceDir() / "configs" / "tum_fr1.yaml").string() + " -d " + test::fr1xyz().string();
+  EXPECT_EQ(test::runCommand("ulimit -f 40; " + std::string(TKGSLAM_CLI) + run + " -o " + out_dir.string(), &out), 2);
+  EXPECT_NE(out.find("cannot write PLY file '" + (out_dir / "map.ply").string() + "': File too large"),
+            std::string::npos)
+      << out;
+  EXPECT_FALSE(std::filesystem::exists(out_dir / "map.ply"));
+  EXPECT_FALSE(std::filesystem::exists(out_dir / "map.ply.part"));
+  EXPECT_EQ(io::readTumTrajectory((out_dir / "trajectory.txt").string()).size(), 30u);
+}
+
 TEST(RunCli, AnAssociationFileGivesTheSameRunAsTheLists) {
   TKGSLAM_REQUIRE_SHARED();
   test::TempDir tmp;

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <random>
 
 #include <fmt/format.h>
@@ -12,6 +11,7 @@
 
 #include "tkgslam/common/Error.h"
 #include "tkgslam/eval/Association.h"
+#include "tkgslam/io/OutputFile.h"
 #include "tkgslam/io/OutputFolder.h"
 
 namespace fs = std::filesystem;
@@ -107,11 +107,10 @@ AugmentStats augmentSequence(const io::TumDataset& ds, const std::vector<io::Tra
     walkers.push_back(w);
   }
 
-  std::ofstream rgb_list(out / "rgb.txt"), depth_list(out / "depth.txt"), boxes(out / "boxes.txt");
-  if (!rgb_list || !depth_list || !boxes) throw InputError(fmt::format("cannot write into '{}'", out_dir));
-  rgb_list << "# color images (tkgslam augment, seed " << o.seed << ")\n# timestamp filename\n";
-  depth_list << "# depth maps (tkgslam augment)\n# timestamp filename\n";
-  boxes << "# timestamp person x y w h (raw pixels; ground truth of the composited people)\n";
+  // The lists are written when every image is: a failed run leaves no list naming missing images.
+  std::string rgb_list = fmt::format("# color images (tkgslam augment, seed {})\n# timestamp filename\n", o.seed);
+  std::string depth_list = "# depth maps (tkgslam augment)\n# timestamp filename\n";
+  std::string boxes = "# timestamp person x y w h (raw pixels; ground truth of the composited people)\n";
   for (int i = 0; i < n; ++i) {
     auto frame = ds.load(i);
     cv::Mat bgr = frame.bgr.clone();
@@ -155,8 +154,8 @@ AugmentStats augmentSequence(const io::TumDataset& ds, const std::vector<io::Tra
         }
       }
       if (drawn > 0) {
-        boxes << fmt::format("{:.6f} {} {} {} {} {}\n", frame.timestamp, k, drawn_box.x, drawn_box.y, drawn_box.width,
-                             drawn_box.height);
+        boxes += fmt::format("{:.6f} {} {} {} {} {}\n", frame.timestamp, k, drawn_box.x, drawn_box.y,
+                             drawn_box.width, drawn_box.height);
         box_union(drawn_box).setTo(255);
       }
     }
@@ -188,8 +187,8 @@ AugmentStats augmentSequence(const io::TumDataset& ds, const std::vector<io::Tra
     depth.convertTo(depth16, CV_16U, depth_factor);
     writeImage(out / "depth" / (dstamp + ".png"), depth16);
     writeImage(out / "masks" / (stamp + ".png"), dyn_mask);
-    rgb_list << stamp << " rgb/" << stamp << ".jpg\n";
-    depth_list << dstamp << " depth/" << dstamp << ".png\n";
+    rgb_list += stamp + " rgb/" + stamp + ".jpg\n";
+    depth_list += dstamp + " depth/" + dstamp + ".png\n";
     const double coverage = double(cv::countNonZero(dyn_mask)) / dyn_mask.total();
     const double ratio = double(cv::countNonZero(box_union)) / box_union.total();
     stats.mean_coverage += coverage;
@@ -203,7 +202,14 @@ AugmentStats augmentSequence(const io::TumDataset& ds, const std::vector<io::Tra
     stats.mean_coverage /= stats.frames;
     stats.mean_box_ratio /= stats.frames;
   }
-  if (const auto g = ds.groundTruthPath()) fs::copy_file(*g, out / "groundtruth.txt", fs::copy_options::overwrite_existing);
+  io::writeOutputFile((out / "rgb.txt").string(), "image list", rgb_list);
+  io::writeOutputFile((out / "depth.txt").string(), "image list", depth_list);
+  io::writeOutputFile((out / "boxes.txt").string(), "box list", boxes);
+  if (const auto g = ds.groundTruthPath()) {
+    std::error_code ec;
+    fs::copy_file(*g, out / "groundtruth.txt", fs::copy_options::overwrite_existing, ec);
+    if (ec) throw InputError(fmt::format("cannot write '{}': {}", (out / "groundtruth.txt").string(), ec.message()));
+  }
   return stats;
 }
 

@@ -1,11 +1,10 @@
 #include "tkgslam/eval/TrajectoryPlot.h"
 
 #include <algorithm>
-#include <fstream>
 
 #include <fmt/format.h>
 
-#include "tkgslam/common/Error.h"
+#include "tkgslam/io/OutputFile.h"
 
 namespace tkgslam::eval {
 
@@ -67,9 +66,7 @@ std::string renderTrajectorySvg(const AteResult& ate, const std::string& title, 
 }
 
 void writeTrajectorySvg(const std::string& path, const AteResult& ate, const std::string& title) {
-  std::ofstream out(path);
-  if (!out) throw InputError(fmt::format("cannot write plot '{}'", path));
-  out << renderTrajectorySvg(ate, title);
+  io::writeOutputFile(path, "plot", renderTrajectorySvg(ate, title));
 }
 
 }  // namespace tkgslam::eval

@@ -3,7 +3,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -13,6 +12,7 @@
 
 #include "tkgslam/common/Error.h"
 #include "tkgslam/io/InputFile.h"
+#include "tkgslam/io/OutputFile.h"
 
 namespace tkgslam::io {
 
@@ -389,16 +389,7 @@ size_t deserializeMap(std::string_view bytes, data::Map& map, const camera::Pinh
 void writeMapFile(const std::string& path, const data::Map& map, const camera::PinholeCamera& camera,
                   const feature::ScalePyramid& pyramid) {
   const std::string bytes = serializeMap(map, camera, pyramid);
-  const std::string tmp = path + ".part";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) throw InputError(fmt::format("cannot write the map file '{}'", path));
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-    if (!out.flush()) throw InputError(fmt::format("cannot write the map file '{}' (disk full?)", path));
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw InputError(fmt::format("cannot write the map file '{}': {}", path, ec.message()));
+  writeOutputFile(path, "map file", bytes);
 }
 
 size_t readMapFile(const std::string& path, data::Map& map, const camera::PinholeCamera& camera,

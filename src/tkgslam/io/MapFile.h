@@ -29,7 +29,8 @@ std::string serializeMap(const data::Map& map, const camera::PinholeCamera& came
 size_t deserializeMap(std::string_view bytes, data::Map& map, const camera::PinholeCamera& camera,
                       const feature::ScalePyramid& pyramid);
 
-/// serializeMap to a file (written to a temporary name, then renamed). Throws InputError.
+/// serializeMap to a file through writeOutputFile (an earlier map there is replaced only by a whole
+/// new one). Throws InputError.
 void writeMapFile(const std::string& path, const data::Map& map, const camera::PinholeCamera& camera,
                   const feature::ScalePyramid& pyramid);
 /// deserializeMap from a file; the error message names the file. Throws InputError.

@@ -1,25 +1,22 @@
 #include "tkgslam/io/PlyWriter.h"
 
-#include <fstream>
-
 #include <fmt/format.h>
 
-#include "tkgslam/common/Error.h"
+#include "tkgslam/io/OutputFile.h"
 
 namespace tkgslam::io {
 
 void writePly(const std::string& path, const std::vector<ColouredPoint>& points) {
-  std::ofstream out(path);
-  if (!out) throw InputError(fmt::format("cannot write PLY file '{}'", path));
-  out << "ply\nformat ascii 1.0\ncomment tkgslam sparse static map (world frame, metres)\n"
-      << "element vertex " << points.size() << "\n"
-      << "property float x\nproperty float y\nproperty float z\n"
-      << "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
+  std::string text = fmt::format(
+      "ply\nformat ascii 1.0\ncomment tkgslam sparse static map (world frame, metres)\nelement vertex {}\n"
+      "property float x\nproperty float y\nproperty float z\n"
+      "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n",
+      points.size());
   for (const auto& p : points) {
-    out << fmt::format("{:.5f} {:.5f} {:.5f} {} {} {}\n", p.position.x(), p.position.y(), p.position.z(),
-                       int(p.bgr[2]), int(p.bgr[1]), int(p.bgr[0]));
+    text += fmt::format("{:.5f} {:.5f} {:.5f} {} {} {}\n", p.position.x(), p.position.y(), p.position.z(),
+                        int(p.bgr[2]), int(p.bgr[1]), int(p.bgr[0]));
   }
-  if (!out) throw InputError(fmt::format("failed while writing PLY file '{}'", path));
+  writeOutputFile(path, "PLY file", text);
 }
 
 }  // namespace tkgslam::io

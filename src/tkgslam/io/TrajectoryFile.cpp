@@ -9,6 +9,7 @@
 #include "tkgslam/common/Error.h"
 #include "tkgslam/io/TextParsing.h"
 #include "tkgslam/io/InputFile.h"
+#include "tkgslam/io/OutputFile.h"
 
 namespace tkgslam::io {
 
@@ -53,18 +54,16 @@ std::vector<TrajectoryEntry> readTumTrajectory(const std::string& path) {
 }
 
 void writeTumTrajectory(const std::string& path, const std::vector<StampedPose>& poses) {
-  std::ofstream out(path);
-  if (!out) throw InputError(fmt::format("cannot write trajectory file '{}'", path));
-  out << "# timestamp tx ty tz qx qy qz qw (camera-to-world, metres)\n";
+  std::string text = "# timestamp tx ty tz qx qy qz qw (camera-to-world, metres)\n";
   for (const auto& p : poses) {
     Eigen::Quaterniond q(p.T_wc.linear());
     q.normalize();
     if (q.w() < 0) q.coeffs() *= -1.0;
     const Vec3 t = p.T_wc.translation();
-    out << fmt::format("{:.6f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f}\n", p.timestamp,
-                       t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
+    text += fmt::format("{:.6f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f}\n", p.timestamp, t.x(), t.y(), t.z(),
+                        q.x(), q.y(), q.z(), q.w());
   }
-  if (!out) throw InputError(fmt::format("failed while writing trajectory file '{}'", path));
+  writeOutputFile(path, "trajectory file", text);
 }
 
 }  // namespace tkgslam::io

@@ -15,6 +15,7 @@
 #include "tkgslam/eval/Ate.h"
 #include "tkgslam/eval/Rpe.h"
 #include "tkgslam/eval/TrajectoryPlot.h"
+#include "tkgslam/io/OutputFile.h"
 #include "tkgslam/io/TrajectoryFile.h"
 #include "tkgslam/io/TextParsing.h"
 #include "tkgslam/io/TumDataset.h"
@@ -321,9 +322,7 @@ std::string writeHtmlReport(const std::string& out_dir) {
   html += "<h2>Configuration</h2><pre>" + escapeXml(slurp(dir / "config_used.yaml")) + "</pre>";
   html += std::string("<script>") + kViewerScript + "document.title='tkgslam report ready';</script></body></html>\n";
   const auto path = (dir / "report.html").string();
-  std::ofstream out(path);
-  if (!out) throw InputError(fmt::format("cannot write '{}'", path));
-  out << html;
+  io::writeOutputFile(path, "report", html);
   return path;
 }
 
