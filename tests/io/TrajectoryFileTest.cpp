@@ -42,6 +42,19 @@ TEST(TrajectoryFile, AcceptsCommasTabsAndComments) {
   EXPECT_DOUBLE_EQ(t[0].t.z(), 3.0);
 }
 
+TEST(TrajectoryFile, AcceptsWindowsLineEndsAndAByteOrderMark) {
+  std::istringstream with_comment("\xEF\xBB\xBF# header\r\n1.0 0 0 0 0 0 0 1\r\n2.0 1 0 0 0 0 0 1\r\n");
+  const auto t = io::parseTumTrajectory(with_comment, "x");
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_DOUBLE_EQ(t[1].t.x(), 1.0);
+  EXPECT_DOUBLE_EQ(t[1].q_xyzw[3], 1.0);
+  std::istringstream data_first("\xEF\xBB\xBF" "1.5 0 0 0 0 0 0 1\n");
+  ASSERT_EQ(io::parseTumTrajectory(data_first, "x").size(), 1u);
+  // Only a whole mark is skipped: a stray byte stays part of the first value.
+  std::istringstream stray("\xEF" "1.5 0 0 0 0 0 0 1\n");
+  EXPECT_NE(test::inputErrorOf([&] { io::parseTumTrajectory(stray, "x"); }).find("x:1: value 1"), std::string::npos);
+}
+
 TEST(TrajectoryFile, MalformedLinesNameFileAndLine) {
   std::istringstream short_line("1 2 3 4 5 6 7 8\n2 0 0 0 0 0 1\n");
   try {

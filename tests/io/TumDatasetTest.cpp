@@ -145,6 +145,18 @@ TEST(TumDataset, MalformedTimestamp) {
   EXPECT_NE(msg.find("depth.txt:3: malformed timestamp '1O1.01'"), std::string::npos) << msg;
 }
 
+TEST(TumDataset, ListsWithWindowsLineEndsAndAByteOrderMarkAreRead) {
+  TempDir tmp;
+  makeDataset(tmp.path());
+  writeText(tmp / "rgb.txt",
+            "\xEF\xBB\xBF# color images\r\n100.000000 rgb/100.000000.jpg\r\n101.000000 rgb/101.000000.jpg\r\n");
+  writeText(tmp / "depth.txt", "\xEF\xBB\xBF" "100.010000 depth/100.010000.png\r\n101.010000 depth/101.010000.png\r\n");
+  io::TumDataset ds(tmp.path().string());
+  ASSERT_EQ(ds.size(), 2u);
+  EXPECT_DOUBLE_EQ(ds.entry(0).rgb_timestamp, 100.0);
+  EXPECT_EQ(ds.load(1).depth_m.at<float>(0, 0), 1.0f);
+}
+
 TEST(TumDataset, MissingFileName) {
   TempDir tmp;
   makeDataset(tmp.path());

@@ -42,8 +42,21 @@ bool isCommentOrBlank(const std::string& line) {
   return true;
 }
 
+void skipByteOrderMark(std::istream& in) {
+  static constexpr char kBom[] = "\xEF\xBB\xBF";
+  for (int i = 0; i < 3; ++i) {
+    if (in.peek() != static_cast<unsigned char>(kBom[i])) {
+      // A partial match is put back: the bytes belong to the first line.
+      for (; i > 0; --i) in.unget();
+      return;
+    }
+    in.get();
+  }
+}
+
 std::vector<DataLine> readDataLines(std::istream& in, const std::string& source, size_t min_fields,
                                     const std::string& layout) {
+  skipByteOrderMark(in);
   std::vector<DataLine> out;
   std::string line;
   int number = 0;

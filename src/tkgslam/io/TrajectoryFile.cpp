@@ -21,6 +21,7 @@ std::vector<TrajectoryEntry> parseTumTrajectory(std::istream& in, const std::str
   std::map<double, TrajectoryEntry> by_time;
   std::string line;
   int line_no = 0;
+  skipByteOrderMark(in);
   while (std::getline(in, line)) {
     ++line_no;
     if (isCommentOrBlank(line)) continue;
