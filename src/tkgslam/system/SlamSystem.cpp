@@ -11,6 +11,7 @@
 #include "tkgslam/dynamic/DynamicFilter.h"
 #include "tkgslam/feature/ImageSharpness.h"
 #include "tkgslam/io/MapFile.h"
+#include "tkgslam/system/FrameInput.h"
 
 namespace tkgslam {
 
@@ -237,7 +238,9 @@ void SlamSystem::trackHeld(std::vector<dynamic::FrameBoxes> final_boxes, long th
   }
 }
 
-std::vector<FrameOutcome> SlamSystem::processFrame(const io::RgbdImages& images) {
+std::vector<FrameOutcome> SlamSystem::processFrame(const io::RgbdImages& input) {
+  const io::RgbdImages images = checkFrameImages(input, {camera_.width(), camera_.height()}, last_timestamp_);
+  last_timestamp_ = images.timestamp;
   PreparedFrame prepared = prepare(images);
   std::vector<FrameOutcome> out;
   dynamic::BoxTimings bt;

@@ -59,7 +59,7 @@ struct KeypointClassification {
 struct FrameOutcome {
   long index = 0;  ///< frames handed to processFrame before this one
   double timestamp = 0;
-  tracking::TrackResult result;
+  tracking::TrackResult result;  ///< result.T_wc: the frame's camera-to-world pose, if tracked
   tracking::TrackingState state = tracking::TrackingState::NotInitialized;  ///< after the frame
 };
 
@@ -71,6 +71,9 @@ class SlamSystem {
 
   /// Processes one RGB-D frame; returns what tracking made of the frames it tracked: this one, or
   /// with dynamic.lookahead the held-back frames whose boxes became final (possibly none).
+  /// `images`: bgr 8-bit BGR and depth_m float metres at the config's image size, timestamps in
+  /// seconds and increasing; gray may be left empty (see checkFrameImages). Throws InputError for a
+  /// frame that is not so; the system is unchanged then and takes the next frame.
   std::vector<FrameOutcome> processFrame(const io::RgbdImages& images);
   /// Tracks the frames still held back (lookahead) and waits for local mapping to finish the
   /// queued keyframes; returns the outcomes of the frames tracked here.
@@ -120,6 +123,7 @@ class SlamSystem {
   KeypointClassification classification_;
   TimingStats timing_;
   int frames_ = 0;
+  std::optional<double> last_timestamp_;  ///< of the last frame processFrame took
 
   /// A frame with its features, waiting for its boxes (lookahead) or tracked at once.
   struct PreparedFrame {

@@ -25,6 +25,16 @@ Tracker::Tracker(data::Map& map, const camera::PinholeCamera& camera, const feat
 
 TrackResult Tracker::track(Frame frame, bool mapper_idle, int mapper_queue, const RefineKeypoints& refine) {
   std::lock_guard<std::mutex> lock(map_.mutex());
+  const double timestamp = frame.timestamp;
+  TrackResult result = trackLocked(std::move(frame), mapper_idle, mapper_queue, refine);
+  // A tracked frame's record is the newest (lost frames interpolated now are inserted before it).
+  if (result.tracked && !records_.empty() && records_.back().timestamp == timestamp) {
+    result.T_wc = records_.back().T_cw().inverse();
+  }
+  return result;
+}
+
+TrackResult Tracker::trackLocked(Frame frame, bool mapper_idle, int mapper_queue, const RefineKeypoints& refine) {
   TrackResult result;
   result.blurred = checkBlurred(frame);
   result.covered = frame.box_cover >= cfg_.tracking.covered_ratio;

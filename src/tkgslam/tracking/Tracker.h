@@ -47,6 +47,10 @@ struct TrackResult {
   /// the timestamps of the frames lost in between, which now have poses interpolated between the
   /// frames tracked either side (see Tracker::track).
   std::vector<double> interpolated_lost;
+  /// Camera-to-world pose of this frame (metres) as tracking has it now, set when `tracked`: what a
+  /// live application uses. Later frames refine the map, so trajectory() may differ by millimetres
+  /// (local BA), more after a loop closure, and replaces provisional (predicted, blurred) poses.
+  std::optional<Pose> T_wc;
 };
 
 /// Called once the frame has a pose from the keypoints outside the boxes; may re-admit or exclude
@@ -109,6 +113,8 @@ class Tracker {
   static constexpr size_t kExcursionFrames = 3;  ///< longest run of records interpolateExcursions replaces
   static constexpr size_t kSharpnessWindow = 15;  ///< sharp frames whose median sharpness is the yardstick
 
+  /// track() under the map lock.
+  TrackResult trackLocked(data::Frame frame, bool mapper_idle, int mapper_queue, const RefineKeypoints& refine);
   /// Tracks the frame against the last frame or the reference keyframe, or relocalises it when
   /// lost, then against the local map; `refine` (the geometry check) runs on the pose found, or on
   /// the motion model's prediction when the keypoints outside the boxes were too few. Sets

@@ -1,0 +1,71 @@
+// libtkgslam in an application: RGB-D frames in, a camera pose per frame out, as they are tracked.
+// The frames come from a TUM sequence's files here; a live camera fills io::RgbdImages the same way:
+// `bgr` 8-bit BGR, `depth_m` float metres (0 = no depth), `timestamp` in seconds.
+//
+//   track_frames CONFIG SEQUENCE [MAX_FRAMES] > live.txt
+//
+// prints each tracked frame's pose (TUM format, camera-to-world) as soon as tracking has it. The
+// final poses, refined by local BA and loop closing and with lost frames interpolated, are
+// SlamSystem::trajectory() at the end: what `tkgslam run` writes. Exit code 2 for bad input.
+#include <cstdio>
+#include <algorithm>
+#include <cstdlib>
+#include <string>
+
+#include <Eigen/Geometry>
+#include <opencv2/imgcodecs.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include "tkgslam/common/Error.h"
+#include "tkgslam/io/ConfigFile.h"
+#include "tkgslam/io/TumDataset.h"
+#include "tkgslam/system/SlamSystem.h"
+
+namespace {
+
+void printPose(double timestamp, const tkgslam::Pose& T_wc) {
+  const Eigen::Quaterniond q(T_wc.linear());
+  const Eigen::Vector3d t = T_wc.translation();
+  std::printf("%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", timestamp, t.x(), t.y(), t.z(), q.x(), q.y(), q.z(),
+              q.w());
+}
+
+void printTracked(const std::vector<tkgslam::FrameOutcome>& outcomes) {
+  for (const auto& o : outcomes) {
+    if (o.result.T_wc) printPose(o.timestamp, *o.result.T_wc);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace tkgslam;
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: %s CONFIG SEQUENCE [MAX_FRAMES]\n", argv[0]);
+    return 2;
+  }
+  // The library logs through spdlog (to stdout by default): to stderr here, so stdout is the poses.
+  spdlog::set_default_logger(spdlog::stderr_color_mt("tkgslam"));
+  try {
+    const SlamConfig config = io::loadConfig(argv[1]);
+    SlamSystem slam(config);
+    const io::TumDataset sequence(argv[2]);  // only its list of image files
+    const int frames = argc > 3 ? std::min(std::atoi(argv[3]), sequence.size()) : sequence.size();
+    for (int i = 0; i < frames; ++i) {
+      const io::RgbdEntry& files = sequence.entry(i);
+      // What a camera driver hands over: colour, and depth in the sensor's units.
+      io::RgbdImages frame;
+      frame.timestamp = files.rgb_timestamp;
+      frame.bgr = cv::imread(files.rgb_path, cv::IMREAD_COLOR);
+      const cv::Mat raw_depth = cv::imread(files.depth_path, cv::IMREAD_UNCHANGED);
+      raw_depth.convertTo(frame.depth_m, CV_32F, 1.0 / config.depth.factor);
+      printTracked(slam.processFrame(frame));  // frame.gray is made from bgr
+    }
+    printTracked(slam.finish());
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}
