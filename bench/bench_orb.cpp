@@ -1,5 +1,5 @@
 // Benchmarks of the per-frame hot path on real fr1_xyz images: ORB extraction (640x480, 1000
-// features, 8 levels), frame feature construction, the blur measure, and descriptor matching
+// features, 8 levels), frame feature construction, the blur measure, the input check, and descriptor matching
 // between two frames; of local bundle adjustment on a synthetic window of its usual size; and of
 // place recognition (vocabulary training and a keyframe-index query over 50 keyframes); and of
 // loop detection for one new keyframe in maps of 50 to 400 keyframes, with and without the word index.
@@ -16,6 +16,7 @@
 #include "tkgslam/match/OrbMatcher.h"
 #include "tkgslam/loop/LoopCloser.h"
 #include "tkgslam/place/KeyFrameIndex.h"
+#include "tkgslam/system/FrameInput.h"
 #include "SharedData.h"  // tests/
 #include "loop/KeyFrameWithPoints.h"  // tests/
 #include "optimize/SyntheticBundle.h"  // tests/
@@ -99,6 +100,18 @@ void BM_ImageSharpness(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(feature::imageSharpness(f.a.gray));
 }
 BENCHMARK(BM_ImageSharpness)->Unit(benchmark::kMillisecond);
+
+// The check of every frame processFrame takes (types, sizes, non-finite depths): arg 0 a frame as
+// TumDataset loads it, arg 1 one without its grey image (made from BGR).
+void BM_CheckFrameImages(benchmark::State& state) {
+  auto& f = fixture();
+  if (!f.ok) return state.SkipWithError("../shared/datasets/rgbd_dataset_freiburg1_xyz not found");
+  io::RgbdImages frame = f.a;
+  if (state.range(0) == 1) frame.gray.release();
+  const cv::Size size(f.camera->width(), f.camera->height());
+  for (auto _ : state) benchmark::DoNotOptimize(checkFrameImages(frame, size, std::nullopt));
+}
+BENCHMARK(BM_CheckFrameImages)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 void BM_DescriptorMatching(benchmark::State& state) {
   auto& f = fixture();

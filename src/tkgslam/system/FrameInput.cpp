@@ -1,6 +1,7 @@
 #include "tkgslam/system/FrameInput.h"
 
 #include <cmath>
+#include <cstdint>
 
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
@@ -25,6 +26,18 @@ void requireImage(const cv::Mat& image, int type, cv::Size size, const char* wha
   }
 }
 
+/// Whether every value of a CV_32F image is finite. (cv::checkRange took 150-250 us a VGA frame,
+/// 1-2 % of ORB + tracking; this loop vectorises: an exponent of all ones is NaN or infinite.)
+bool allFinite(const cv::Mat& image) {
+  for (int r = 0; r < image.rows; ++r) {
+    const auto* bits = image.ptr<uint32_t>(r);
+    uint32_t bad = 0;
+    for (int c = 0; c < image.cols; ++c) bad |= uint32_t((bits[c] & 0x7f800000u) == 0x7f800000u);
+    if (bad) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 io::RgbdImages checkFrameImages(io::RgbdImages images, cv::Size camera_size,
@@ -37,7 +50,7 @@ io::RgbdImages checkFrameImages(io::RgbdImages images, cv::Size camera_size,
   requireImage(images.bgr, CV_8UC3, camera_size, "bgr", "8-bit with 3 channels (BGR)");
   requireImage(images.depth_m, CV_32FC1, camera_size, "depth_m", "32-bit float metres with 1 channel",
                images.depth_m.depth() == CV_16U ? " (raw depth: convertTo(depth_m, CV_32F, 1.0 / depth_factor))" : "");
-  if (!cv::checkRange(images.depth_m)) {
+  if (!allFinite(images.depth_m)) {
     // NaN or infinite depths (some drivers' "no depth") become 0, in a copy: the caller's buffer stays.
     cv::Mat depth = images.depth_m.clone();
     depth.forEach<float>([](float& d, const int*) {
