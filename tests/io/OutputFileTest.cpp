@@ -1,6 +1,7 @@
 // Output files: a write that fails (full disk, file-size limit, no folder) throws with the system's
 // reason, and never leaves a part of a file where a whole one is expected.
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <csignal>
 #include <filesystem>
@@ -57,6 +58,23 @@ TEST(OutputFile, AFailedWriteKeepsTheEarlierFileAndLeavesNoPart) {
             "cannot write trajectory file '" + traj + "': File too large");
   EXPECT_FALSE(std::filesystem::exists(traj));
   EXPECT_FALSE(std::filesystem::exists(traj + ".part"));
+}
+
+TEST(OutputFile, AWritableFileInAReadOnlyFolderIsWrittenInPlace) {
+  if (geteuid() == 0) GTEST_SKIP() << "root writes into any folder";
+  test::TempDir tmp;
+  const auto folder = tmp / "locked";
+  std::filesystem::create_directories(folder);
+  const std::string path = (folder / "errors.txt").string();
+  io::writeOutputFile(path, "error file", "earlier\n");
+  std::filesystem::permissions(folder, std::filesystem::perms::owner_read | std::filesystem::perms::owner_exec);
+  const std::string error = test::inputErrorOf([&] { io::writeOutputFile(path, "error file", "new\n"); });
+  const std::string refused =
+      test::inputErrorOf([&] { io::writeOutputFile((folder / "new.txt").string(), "error file", "x"); });
+  std::filesystem::permissions(folder, std::filesystem::perms::owner_all);
+  EXPECT_EQ(error, "");
+  EXPECT_EQ(test::readFile(path), "new\n");
+  EXPECT_EQ(refused, "cannot write error file '" + (folder / "new.txt").string() + "': Permission denied");
 }
 
 TEST(OutputFile, ADeviceIsWrittenDirectly) {

@@ -32,12 +32,19 @@ void writeOutputFile(const std::string& path, const std::string& what, std::stri
   std::error_code ec;
   const auto status = std::filesystem::status(path, ec);
   if (std::filesystem::is_directory(status)) throw writeError(what, path, EISDIR);
-  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
+  const bool exists = std::filesystem::exists(status);
+  if (exists && !std::filesystem::is_regular_file(status)) {
     if (const int error = writeWhole(path, content)) throw writeError(what, path, error);
     return;
   }
   const std::string part = path + ".part";
   int error = writeWhole(part, content);
+  if (exists && (error == EACCES || error == EPERM)) {
+    // A writable file in a folder that is not (what checkWritableFile lets through): in place.
+    std::filesystem::remove(part, ec);
+    if ((error = writeWhole(path, content)) != 0) throw writeError(what, path, error);
+    return;
+  }
   if (error == 0 && std::rename(part.c_str(), path.c_str()) != 0) error = errno;
   if (error != 0) {
     std::filesystem::remove(part, ec);

@@ -10,7 +10,8 @@ namespace tkgslam::io {
 
 /// Writes `content` to `path`, creating it or replacing an earlier file. A regular file is written
 /// to `<path>.part` and renamed when complete, so `path` holds either the earlier file or the whole
-/// new one, never a part; a device or pipe (/dev/stdout) is written directly. Throws InputError
+/// new one, never a part; a device or pipe (/dev/stdout), and a writable file in a folder that is
+/// not, are written directly. Throws InputError
 /// "cannot write <what> '<path>': <reason>" (reason e.g. "No space left on device"; `what` e.g.
 /// "trajectory file") and leaves no `.part` behind.
 void writeOutputFile(const std::string& path, const std::string& what, std::string_view content);
