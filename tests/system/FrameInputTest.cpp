@@ -96,14 +96,15 @@ TEST(FrameInput, ABadFrameIsRefusedAndTheNextOneTracked) {
   slam.finish();
   EXPECT_EQ(slam.framesProcessed(), 60);  // the refused frame is not counted
   ASSERT_EQ(live.size(), 60u);
-  // The live poses are those tracking had; the final ones differ by what local BA moved since.
+  // The live poses are those tracking had; the final ones differ by what local BA moved since and
+  // by the end-of-run repairs.
   const auto final_poses = slam.trajectory();
   ASSERT_EQ(final_poses.size(), live.size());
   double largest = 0;
   for (size_t i = 0; i < live.size(); ++i) {
     largest = std::max(largest, (live[i].T_wc.translation() - final_poses[i].T_wc.translation()).norm());
   }
-  EXPECT_LT(largest, 0.02);
+  EXPECT_LT(largest, 0.01);  // 3.6 mm (deterministic)
   const auto gt = io::readTumTrajectory((test::fr1xyz() / "groundtruth.txt").string());
   std::vector<io::TrajectoryEntry> est;
   for (const auto& p : live) {
