@@ -295,15 +295,8 @@ void writeSummary(const RunOptions& o, const SlamConfig& config, const SlamSyste
   std::printf("time per frame: mean %.1f ms, median %.1f ms (ORB+tracking median %.1f ms)\n",
               slam.timing().mean("total"), slam.timing().median("total"), slam.timing().median("orb_and_tracking"));
   if (const auto gt_path = dataset.groundTruthPath(); gt_path && traj.size() >= 2 && o.loops == 1) {
-    std::vector<io::TrajectoryEntry> est;
-    for (const auto& p : traj) {
-      io::TrajectoryEntry e;
-      e.timestamp = p.timestamp;
-      e.t = p.T_wc.translation();
-      est.push_back(e);
-    }
     try {
-      const auto ate = eval::computeAte(io::readTumTrajectory(*gt_path), est);
+      const auto ate = eval::computeAte(io::readTumTrajectory(*gt_path), io::toTrajectoryEntries(traj));
       std::printf("ATE RMSE %.4f m (%d poses)\n", ate.stats.rmse, ate.stats.count);
     } catch (const InputError& e) {
       // The run's outputs stand; only the score against a ground truth that does not fit is missing.

@@ -7,33 +7,26 @@
 // prints each tracked frame's pose (TUM format, camera-to-world) as soon as tracking has it. The
 // final poses, refined by local BA and loop closing and with lost frames interpolated, are
 // SlamSystem::trajectory() at the end: what `tkgslam run` writes. Exit code 2 for bad input.
-#include <cstdio>
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 
-#include <Eigen/Geometry>
 #include <opencv2/imgcodecs.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include "tkgslam/common/Error.h"
 #include "tkgslam/io/ConfigFile.h"
+#include "tkgslam/io/TrajectoryFile.h"
 #include "tkgslam/io/TumDataset.h"
 #include "tkgslam/system/SlamSystem.h"
 
 namespace {
 
-void printPose(double timestamp, const tkgslam::Pose& T_wc) {
-  const Eigen::Quaterniond q(T_wc.linear());
-  const Eigen::Vector3d t = T_wc.translation();
-  std::printf("%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", timestamp, t.x(), t.y(), t.z(), q.x(), q.y(), q.z(),
-              q.w());
-}
-
 void printTracked(const std::vector<tkgslam::FrameOutcome>& outcomes) {
   for (const auto& o : outcomes) {
-    if (o.result.T_wc) printPose(o.timestamp, *o.result.T_wc);
+    if (o.result.T_wc) std::printf("%s\n", tkgslam::io::formatTumPose({o.timestamp, *o.result.T_wc}).c_str());
   }
 }
 

@@ -32,6 +32,12 @@ TEST(TrajectoryFile, WriteThenReadRoundTrips) {
   EXPECT_NEAR(back[1].q_xyzw.norm(), 1.0, 1e-9);
   EXPECT_GE(back[1].q_xyzw[3], 0.0);
   EXPECT_TRUE(back[1].pose().isApprox(poses[1].T_wc, 1e-8));
+  // In memory, the same entries as written and read back (to the file's 9 decimals).
+  EXPECT_EQ(line, io::formatTumPose(poses[0]));
+  const auto entries = io::toTrajectoryEntries(poses);
+  ASSERT_EQ(entries.size(), 2u);
+  EXPECT_TRUE(entries[1].t.isApprox(back[1].t, 1e-8));
+  EXPECT_TRUE(entries[1].q_xyzw.isApprox(back[1].q_xyzw, 1e-8));
 }
 
 TEST(TrajectoryFile, AcceptsCommasTabsAndComments) {

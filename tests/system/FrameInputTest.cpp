@@ -106,16 +106,7 @@ TEST(FrameInput, ABadFrameIsRefusedAndTheNextOneTracked) {
   }
   EXPECT_LT(largest, 0.01);  // 3.6 mm (deterministic)
   const auto gt = io::readTumTrajectory((test::fr1xyz() / "groundtruth.txt").string());
-  std::vector<io::TrajectoryEntry> est;
-  for (const auto& p : live) {
-    io::TrajectoryEntry e;
-    e.timestamp = p.timestamp;
-    e.t = p.T_wc.translation();
-    const Eigen::Quaterniond q(p.T_wc.linear());
-    e.q_xyzw = Eigen::Vector4d(q.x(), q.y(), q.z(), q.w());
-    est.push_back(e);
-  }
-  EXPECT_LT(eval::computeAte(gt, est).stats.rmse, 0.02);
+  EXPECT_LT(eval::computeAte(gt, io::toTrajectoryEntries(live)).stats.rmse, 0.02);
 }
 
 TEST(FrameInput, TheExampleApplicationPrintsEachTrackedFramesPose) {

@@ -54,17 +54,42 @@ std::vector<TrajectoryEntry> readTumTrajectory(const std::string& path) {
   return parseTumTrajectory(in, path);
 }
 
+namespace {
+
+/// The rotation as written: unit, qw >= 0 (q and -q are the same rotation).
+Eigen::Quaterniond writtenQuaternion(const Pose& T_wc) {
+  Eigen::Quaterniond q(T_wc.linear());
+  q.normalize();
+  if (q.w() < 0) q.coeffs() *= -1.0;
+  return q;
+}
+
+}  // namespace
+
+std::string formatTumPose(const StampedPose& pose) {
+  const Eigen::Quaterniond q = writtenQuaternion(pose.T_wc);
+  const Vec3 t = pose.T_wc.translation();
+  return fmt::format("{:.6f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f}", pose.timestamp, t.x(), t.y(), t.z(),
+                     q.x(), q.y(), q.z(), q.w());
+}
+
 void writeTumTrajectory(const std::string& path, const std::vector<StampedPose>& poses) {
   std::string text = "# timestamp tx ty tz qx qy qz qw (camera-to-world, metres)\n";
-  for (const auto& p : poses) {
-    Eigen::Quaterniond q(p.T_wc.linear());
-    q.normalize();
-    if (q.w() < 0) q.coeffs() *= -1.0;
-    const Vec3 t = p.T_wc.translation();
-    text += fmt::format("{:.6f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f} {:.9f}\n", p.timestamp, t.x(), t.y(), t.z(),
-                        q.x(), q.y(), q.z(), q.w());
-  }
+  for (const auto& p : poses) text += formatTumPose(p) + "\n";
   writeOutputFile(path, "trajectory file", text);
+}
+
+std::vector<TrajectoryEntry> toTrajectoryEntries(const std::vector<StampedPose>& poses) {
+  std::vector<TrajectoryEntry> entries;
+  entries.reserve(poses.size());
+  for (const auto& p : poses) {
+    TrajectoryEntry e;
+    e.timestamp = p.timestamp;
+    e.t = p.T_wc.translation();
+    e.q_xyzw = writtenQuaternion(p.T_wc).coeffs();  // Eigen stores x, y, z, w
+    entries.push_back(e);
+  }
+  return entries;
 }
 
 }  // namespace tkgslam::io

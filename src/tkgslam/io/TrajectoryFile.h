@@ -29,8 +29,16 @@ std::vector<TrajectoryEntry> parseTumTrajectory(std::istream& in, const std::str
 /// Reads a TUM trajectory file; throws InputError if it cannot be opened or is malformed.
 std::vector<TrajectoryEntry> readTumTrajectory(const std::string& path);
 
-/// Writes poses in TUM format: 6-decimal timestamps, 9-decimal values, unit quaternions with
-/// qw >= 0. Throws InputError if the file cannot be written.
+/// One pose as a line of a TUM trajectory, without the newline: 6-decimal timestamp, 9-decimal
+/// values, a unit quaternion with qw >= 0.
+std::string formatTumPose(const StampedPose& pose);
+
+/// Writes poses in TUM format (lines of formatTumPose under a header). Throws InputError if the
+/// file cannot be written.
 void writeTumTrajectory(const std::string& path, const std::vector<StampedPose>& poses);
+
+/// Poses as the entries a written and re-read trajectory would give (unit quaternions, qw >= 0),
+/// to score them (eval::computeAte) without a file.
+std::vector<TrajectoryEntry> toTrajectoryEntries(const std::vector<StampedPose>& poses);
 
 }  // namespace tkgslam::io
