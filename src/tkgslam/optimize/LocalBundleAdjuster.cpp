@@ -4,39 +4,12 @@
 #include <cmath>
 
 #include <ceres/ceres.h>
-#include <ceres/rotation.h>
+
+#include "tkgslam/optimize/ReprojectionCost.h"
 
 namespace tkgslam::optimize {
 
 namespace {
-
-// Reprojection residual of a world point in a camera with pose T_cw = (q, t), quaternion stored
-// as Eigen (x, y, z, w). Residual = sqrt(information) * (observed - predicted): (u, v, u_right),
-// the third 0 for an observation without depth. Every residual having 3 rows (and every block 3
-// tangent dimensions) lets Ceres use its fixed-size Schur eliminator <3, 3, 3> instead of the
-// dynamic one: 16 % faster (tkgslam_bench), the same solution (a zero row adds nothing; the
-// fixed-size kernels only round differently, trajectories agree to 1e-9 m).
-struct ReprojectionError {
-  ReprojectionError(const BundleObservation& o, const PinholeIntrinsics& K) : o_(o), K_(K), s_(std::sqrt(o.information)) {}
-
-  template <typename T>
-  bool operator()(const T* q, const T* t, const T* p, T* r) const {
-    Eigen::Map<const Eigen::Quaternion<T>> quat(q);
-    Eigen::Map<const Eigen::Matrix<T, 3, 1>> trans(t), pw(p);
-    const Eigen::Matrix<T, 3, 1> pc = quat * pw + trans;
-    const T iz = T(1.0) / pc.z();
-    const T u = T(K_.fx) * pc.x() * iz + T(K_.cx);
-    const T v = T(K_.fy) * pc.y() * iz + T(K_.cy);
-    r[0] = T(s_) * (T(o_.uv.x()) - u);
-    r[1] = T(s_) * (T(o_.uv.y()) - v);
-    r[2] = o_.u_right >= 0 ? T(s_) * (T(o_.u_right) - (u - T(K_.bf) * iz)) : T(0.0);
-    return true;
-  }
-
-  BundleObservation o_;
-  PinholeIntrinsics K_;
-  double s_;
-};
 
 constexpr size_t kMaxDenseSchurPoses = 40;
 
@@ -46,7 +19,7 @@ double chi2Of(const BundleObservation& o, const PinholeIntrinsics& K, const Eige
   behind = (q * p + t).z() <= 0;
   if (behind) return 1e30;
   double r[3];
-  ReprojectionError(o, K)(q.coeffs().data(), t.data(), p.data(), r);
+  ReprojectionCost(o, K).residual(q.coeffs().data(), t.data(), p.data(), r);
   return r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
 }
 
@@ -73,7 +46,7 @@ std::vector<char> solveBundle(BundleProblem& pb, const PinholeIntrinsics& K, con
       if (outlier[k]) continue;
       const auto& o = pb.observations[k];
       const bool stereo = o.u_right >= 0;
-      ceres::CostFunction* cost = new ceres::AutoDiffCostFunction<ReprojectionError, 3, 4, 3, 3>(new ReprojectionError(o, K));
+      ceres::CostFunction* cost = new ReprojectionCost(o, K);
       ceres::LossFunction* loss =
           robust ? new ceres::HuberLoss(std::sqrt(stereo ? opt.chi2_stereo : opt.chi2_mono)) : nullptr;
       problem.AddResidualBlock(cost, loss, q[o.camera].coeffs().data(), t[o.camera].data(), pb.points[o.point].data());

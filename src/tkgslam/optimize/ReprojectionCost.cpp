@@ -1,0 +1,73 @@
+#include "tkgslam/optimize/ReprojectionCost.h"
+
+#include <cmath>
+
+namespace tkgslam::optimize {
+
+namespace {
+using RowMat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+
+Mat3 skew(const Vec3& a) {
+  Mat3 m;
+  m << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+  return m;
+}
+}  // namespace
+
+ReprojectionCost::ReprojectionCost(const BundleObservation& o, const PinholeIntrinsics& K)
+    : uv_(o.uv), u_right_(o.u_right), K_(K), s_(std::sqrt(o.information)) {}
+
+void ReprojectionCost::residual(const double* q, const double* t, const double* p, double* r) const {
+  const Eigen::Map<const Eigen::Quaterniond> quat(q);
+  const Vec3 pc = quat * Eigen::Map<const Vec3>(p) + Eigen::Map<const Vec3>(t);
+  const double iz = 1.0 / pc.z();
+  const double u = K_.fx * pc.x() * iz + K_.cx;
+  const double v = K_.fy * pc.y() * iz + K_.cy;
+  r[0] = s_ * (uv_.x() - u);
+  r[1] = s_ * (uv_.y() - v);
+  r[2] = u_right_ >= 0 ? s_ * (u_right_ - (u - K_.bf * iz)) : 0.0;
+}
+
+bool ReprojectionCost::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const {
+  const double* q = parameters[0];
+  const double* p = parameters[2];
+  residual(q, parameters[1], p, residuals);
+  if (!jacobians) return true;
+
+  // Eigen rotates p by q (not normalised) as p + 2w (v x p) + 2 v x (v x p), v = (x, y, z): a
+  // polynomial in q, differentiated as such (what automatic differentiation does).
+  const Vec3 v(q[0], q[1], q[2]);
+  const double w = q[3];
+  const Vec3 pw(p[0], p[1], p[2]);
+  const Vec3 pc = Eigen::Map<const Eigen::Quaterniond>(q) * pw + Eigen::Map<const Vec3>(parameters[1]);
+  const double iz = 1.0 / pc.z(), iz2 = iz * iz;
+
+  // d residual / d camera point: -sqrt(information) x d (u, v, u_right) / d p_c.
+  RowMat3 A;
+  A << K_.fx * iz, 0, -K_.fx * pc.x() * iz2,  //
+      0, K_.fy * iz, -K_.fy * pc.y() * iz2,   //
+      0, 0, 0;
+  if (u_right_ >= 0) A.row(2) << K_.fx * iz, 0, -K_.fx * pc.x() * iz2 + K_.bf * iz2;
+  A *= -s_;
+
+  if (jacobians[0]) {
+    Eigen::Matrix<double, 3, 4> dR_dq;
+    const double vp = v.dot(pw);
+    dR_dq.leftCols<3>() = -2.0 * w * skew(pw) + 2.0 * (vp * Mat3::Identity() + v * pw.transpose() - 2.0 * pw * v.transpose());
+    dR_dq.col(3) = 2.0 * v.cross(pw);
+    Eigen::Map<Eigen::Matrix<double, 3, 4, Eigen::RowMajor>> J(jacobians[0]);
+    J = A * dR_dq;
+  }
+  if (jacobians[1]) {
+    Eigen::Map<RowMat3> J(jacobians[1]);
+    J = A;
+  }
+  if (jacobians[2]) {
+    const Mat3 V = skew(v);
+    Eigen::Map<RowMat3> J(jacobians[2]);
+    J = A * (Mat3::Identity() + 2.0 * w * V + 2.0 * V * V);
+  }
+  return true;
+}
+
+}  // namespace tkgslam::optimize
