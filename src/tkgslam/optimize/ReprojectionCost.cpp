@@ -18,8 +18,10 @@ ReprojectionCost::ReprojectionCost(const BundleObservation& o, const PinholeIntr
     : uv_(o.uv), u_right_(o.u_right), K_(K), s_(std::sqrt(o.information)) {}
 
 void ReprojectionCost::residual(const double* q, const double* t, const double* p, double* r) const {
-  const Eigen::Map<const Eigen::Quaterniond> quat(q);
-  const Vec3 pc = quat * Eigen::Map<const Vec3>(p) + Eigen::Map<const Vec3>(t);
+  residualAt(Eigen::Map<const Eigen::Quaterniond>(q) * Eigen::Map<const Vec3>(p) + Eigen::Map<const Vec3>(t), r);
+}
+
+void ReprojectionCost::residualAt(const Vec3& pc, double* r) const {
   const double iz = 1.0 / pc.z();
   const double u = K_.fx * pc.x() * iz + K_.cx;
   const double v = K_.fy * pc.y() * iz + K_.cy;
@@ -30,16 +32,15 @@ void ReprojectionCost::residual(const double* q, const double* t, const double* 
 
 bool ReprojectionCost::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const {
   const double* q = parameters[0];
-  const double* p = parameters[2];
-  residual(q, parameters[1], p, residuals);
+  const Eigen::Map<const Vec3> pw(parameters[2]);
+  const Vec3 pc = Eigen::Map<const Eigen::Quaterniond>(q) * pw + Eigen::Map<const Vec3>(parameters[1]);
+  residualAt(pc, residuals);
   if (!jacobians) return true;
 
   // Eigen rotates p by q (not normalised) as p + 2w (v x p) + 2 v x (v x p), v = (x, y, z): a
   // polynomial in q, differentiated as such (what automatic differentiation does).
   const Vec3 v(q[0], q[1], q[2]);
   const double w = q[3];
-  const Vec3 pw(p[0], p[1], p[2]);
-  const Vec3 pc = Eigen::Map<const Eigen::Quaterniond>(q) * pw + Eigen::Map<const Vec3>(parameters[1]);
   const double iz = 1.0 / pc.z(), iz2 = iz * iz;
 
   // d residual / d camera point: -sqrt(information) x d (u, v, u_right) / d p_c.

@@ -5,7 +5,8 @@
 // (observed - predicted) in pixels: (u, v, u_right), the third 0 for an observation without depth.
 // Every residual has 3 rows (and every block 3 tangent dimensions) so Ceres uses its fixed-size
 // Schur eliminator <3, 3, 3>. Same values and derivatives as automatic differentiation of the
-// projection (to rounding; test ReprojectionCost.*) at a third of its cost in the local BA.
+// projection (to rounding; test ReprojectionCost.*); the local BA took 49.4 ms with automatic
+// differentiation, 41.7 ms with this (BM_LocalBundleAdjustment).
 #include <ceres/sized_cost_function.h>
 
 #include "tkgslam/optimize/LocalBundleAdjuster.h"
@@ -23,6 +24,9 @@ class ReprojectionCost final : public ceres::SizedCostFunction<3, 4, 3, 3> {
   void residual(const double* q, const double* t, const double* p, double* r) const;
 
  private:
+  /// The residual of the point p_c in camera coordinates.
+  void residualAt(const Vec3& p_c, double* r) const;
+
   Vec2 uv_;
   double u_right_;  ///< < 0: no depth, third residual 0
   PinholeIntrinsics K_;
