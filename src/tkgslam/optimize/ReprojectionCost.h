@@ -5,8 +5,8 @@
 // (observed - predicted) in pixels: (u, v, u_right), the third 0 for an observation without depth.
 // Every residual has 3 rows (and every block 3 tangent dimensions) so Ceres uses its fixed-size
 // Schur eliminator <3, 3, 3>. Same values and derivatives as automatic differentiation of the
-// projection (to rounding; test ReprojectionCost.*); the local BA took 49.4 ms with automatic
-// differentiation, 41.7 ms with this (BM_LocalBundleAdjustment).
+// projection (to rounding; test ReprojectionCost.*), with 26 % fewer instructions in Ceres'
+// residual evaluation and 7 % fewer in the whole local BA (callgrind, BM_LocalBundleAdjustment).
 #include <ceres/sized_cost_function.h>
 
 #include "tkgslam/optimize/LocalBundleAdjuster.h"
