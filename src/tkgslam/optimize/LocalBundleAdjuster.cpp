@@ -16,10 +16,11 @@ constexpr size_t kMaxDenseSchurPoses = 40;
 // The residual's squared norm: information x squared pixel error (the third row is 0 without depth).
 double chi2Of(const BundleObservation& o, const PinholeIntrinsics& K, const Eigen::Quaterniond& q,
               const Vec3& t, const Vec3& p, bool& behind) {
-  behind = (q * p + t).z() <= 0;
+  const Vec3 pc = q * p + t;
+  behind = pc.z() <= 0;
   if (behind) return 1e30;
   double r[3];
-  ReprojectionCost(o, K).residual(q.coeffs().data(), t.data(), p.data(), r);
+  ReprojectionCost(o, K).residualAt(pc, r);
   return r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
 }
 

@@ -17,22 +17,16 @@ bool residual(const PoseObservation& o, const PinholeIntrinsics& K, const Pose& 
               Eigen::Matrix<double, 3, 6>& J, bool stereo) {
   const Vec3 pc = T * o.p_w;
   if (pc.z() <= 1e-6) return false;
-  const double iz = 1.0 / pc.z(), iz2 = iz * iz;
-  const double u = K.fx * pc.x() * iz + K.cx;
-  const double v = K.fy * pc.y() * iz + K.cy;
-  e[0] = o.uv.x() - u;
-  e[1] = o.uv.y() - v;
-  e[2] = stereo ? o.u_right - (u - K.bf * iz) : 0.0;
-  Eigen::Matrix<double, 3, 3> Jp;  // d(predicted)/d(pc)
-  Jp << K.fx * iz, 0, -K.fx * pc.x() * iz2,
-        0, K.fy * iz, -K.fy * pc.y() * iz2,
-        K.fx * iz, 0, -K.fx * pc.x() * iz2 + K.bf * iz2;
+  const Vec3 predicted = projectStereo(K, pc);
+  e[0] = o.uv.x() - predicted[0];
+  e[1] = o.uv.y() - predicted[1];
+  e[2] = stereo ? o.u_right - predicted[2] : 0.0;
   Eigen::Matrix<double, 3, 6> Jt;  // d(pc)/d(increment): [-[pc]x, I]
   Jt << 0, pc.z(), -pc.y(), 1, 0, 0,
         -pc.z(), 0, pc.x(), 0, 1, 0,
         pc.y(), -pc.x(), 0, 0, 0, 1;
-  J = -Jp * Jt;  // residual = observed - predicted
-  if (!stereo) J.row(2).setZero();
+  J = -projectStereoJacobian(K, pc, stereo) * Jt;  // residual = observed - predicted
+  if (!stereo) J.row(2).setZero();  // -0 from the product
   return true;
 }
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "tkgslam/common/Pose.h"
+#include "tkgslam/optimize/PinholeIntrinsics.h"
 
 namespace tkgslam::optimize {
 
@@ -15,16 +16,6 @@ struct PoseObservation {
   double u_right = -1;      ///< observed virtual right u (u - bf/depth); < 0 = monocular residual
   double information = 1;   ///< 1 / sigma^2 of the keypoint's pyramid level
 };
-
-struct PinholeIntrinsics {
-  double fx, fy, cx, cy;
-  double bf;  ///< virtual stereo baseline * fx
-};
-
-/// The intrinsics the optimisers use, from the camera and the depth's virtual baseline.
-inline PinholeIntrinsics intrinsicsOf(double fx, double fy, double cx, double cy, double baseline_fx) {
-  return {fx, fy, cx, cy, baseline_fx};
-}
 
 struct PoseOptimizerOptions {
   int rounds = 4;

@@ -22,12 +22,10 @@ void ReprojectionCost::residual(const double* q, const double* t, const double* 
 }
 
 void ReprojectionCost::residualAt(const Vec3& pc, double* r) const {
-  const double iz = 1.0 / pc.z();
-  const double u = K_.fx * pc.x() * iz + K_.cx;
-  const double v = K_.fy * pc.y() * iz + K_.cy;
-  r[0] = s_ * (uv_.x() - u);
-  r[1] = s_ * (uv_.y() - v);
-  r[2] = u_right_ >= 0 ? s_ * (u_right_ - (u - K_.bf * iz)) : 0.0;
+  const Vec3 predicted = projectStereo(K_, pc);
+  r[0] = s_ * (uv_.x() - predicted[0]);
+  r[1] = s_ * (uv_.y() - predicted[1]);
+  r[2] = u_right_ >= 0 ? s_ * (u_right_ - predicted[2]) : 0.0;
 }
 
 bool ReprojectionCost::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const {
@@ -41,15 +39,8 @@ bool ReprojectionCost::Evaluate(double const* const* parameters, double* residua
   // polynomial in q, differentiated as such (what automatic differentiation does).
   const Vec3 v(q[0], q[1], q[2]);
   const double w = q[3];
-  const double iz = 1.0 / pc.z(), iz2 = iz * iz;
-
-  // d residual / d camera point: -sqrt(information) x d (u, v, u_right) / d p_c.
-  RowMat3 A;
-  A << K_.fx * iz, 0, -K_.fx * pc.x() * iz2,  //
-      0, K_.fy * iz, -K_.fy * pc.y() * iz2,   //
-      0, 0, 0;
-  if (u_right_ >= 0) A.row(2) << K_.fx * iz, 0, -K_.fx * pc.x() * iz2 + K_.bf * iz2;
-  A *= -s_;
+  // d residual / d camera point.
+  const Mat3 A = -s_ * projectStereoJacobian(K_, pc, u_right_ >= 0);
 
   if (jacobians[0]) {
     Eigen::Matrix<double, 3, 4> dR_dq;

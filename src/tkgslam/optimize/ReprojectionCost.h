@@ -22,10 +22,10 @@ class ReprojectionCost final : public ceres::SizedCostFunction<3, 4, 3, 3> {
 
   /// Residual alone (no Ceres): the squared norm is the observation's chi-square.
   void residual(const double* q, const double* t, const double* p, double* r) const;
+  /// The same for the point already in camera coordinates (p_c = q p + t, metres).
+  void residualAt(const Vec3& p_c, double* r) const;
 
  private:
-  /// The residual of the point p_c in camera coordinates.
-  void residualAt(const Vec3& p_c, double* r) const;
 
   Vec2 uv_;
   double u_right_;  ///< < 0: no depth, third residual 0
