@@ -142,6 +142,18 @@ void BM_LocalBundleAdjustment(benchmark::State& state) {
 }
 BENCHMARK(BM_LocalBundleAdjustment)->Unit(benchmark::kMillisecond);
 
+// The window of a long run in a small scene (fr1_xyz late on: every keyframe covisible with every
+// other, ~60 free keyframes in local BA): 60 keyframes (2 fixed), 440 points seen by all.
+void BM_LocalBundleAdjustmentCovisible60(benchmark::State& state) {
+  const auto s = test::makeSyntheticBundle(60, 440, 0.05, 0.01, 0.002);
+  for (auto _ : state) {
+    auto problem = s.problem;
+    benchmark::DoNotOptimize(optimize::solveBundle(problem, s.K, {}));
+  }
+  state.counters["dense_schur"] = optimize::prefersDenseSchur(s.problem);
+}
+BENCHMARK(BM_LocalBundleAdjustmentCovisible60)->Unit(benchmark::kMillisecond);
+
 // Descriptors of 50 fr1_xyz frames 15 apart: a map's worth of keyframes (the whole sequence's
 // map has ~51).
 struct PlaceFixture {

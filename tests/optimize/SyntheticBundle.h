@@ -3,6 +3,7 @@
 // looking at random points 0.5-3 m away, two of them held fixed, a third of the observations
 // without depth (monocular residuals), pixel noise, and a share of gross outliers. Shared by the
 // bundle-adjustment test and its benchmark.
+#include <cstdlib>
 #include <random>
 #include <vector>
 
@@ -20,10 +21,13 @@ struct SyntheticBundle {
 
 /// `outlier_share` of the observations are moved 40-100 px; the free poses start 1 cm / 0.3 degrees
 /// off (a tracked keyframe's error) and the points 3 cm off.
-/// The keyframes are `spacing` metres apart; u, v and u_right have independent 0.1 px noise (the
-/// residuals' model: one sigma for all three).
+/// The keyframes are `spacing` metres and `turn` radians apart; u, v and u_right have independent
+/// 0.1 px noise (the residuals' model: one sigma for all three). With `band` < 0 every keyframe sees
+/// every point (in front of the first keyframe); otherwise point p lies in front of keyframe
+/// p % cameras and only the keyframes within `band` of that one see it: a long chain in which each
+/// keyframe shares points with a few neighbours only.
 inline SyntheticBundle makeSyntheticBundle(int cameras, int points, double outlier_share, double spacing = 0.05,
-                                           unsigned seed = 5) {
+                                           double turn = 0.02, int band = -1, unsigned seed = 5) {
   SyntheticBundle s;
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> ux(-1.0, 1.0), uz(0.5, 3.0), u01(0, 1);
@@ -31,7 +35,7 @@ inline SyntheticBundle makeSyntheticBundle(int cameras, int points, double outli
   const auto direction = [&] { return Vec3(step(rng), step(rng), step(rng)).normalized(); };
   for (int c = 0; c < cameras; ++c) {
     Pose T = Pose::Identity();
-    T.linear() = Eigen::AngleAxisd(0.02 * c, Vec3(0.1, 1, 0.2).normalized()).toRotationMatrix();
+    T.linear() = Eigen::AngleAxisd(turn * c, Vec3(0.1, 1, 0.2).normalized()).toRotationMatrix();
     T.translation() = spacing * c * Vec3(1.0, -0.2, 0.4);
     s.true_poses.push_back(T);
     Pose start = T;
@@ -44,10 +48,12 @@ inline SyntheticBundle makeSyntheticBundle(int cameras, int points, double outli
   }
   for (int p = 0; p < points; ++p) {
     const Vec3 pc(ux(rng), ux(rng) * 0.7, uz(rng));
-    const Vec3 pw = s.true_poses[0].inverse() * pc;
+    const int anchor = band < 0 ? 0 : p % cameras;
+    const Vec3 pw = s.true_poses[size_t(anchor)].inverse() * pc;
     s.true_points.push_back(pw);
     s.problem.points.push_back(pw + 0.03 * direction());
     for (int c = 0; c < cameras; ++c) {
+      if (band >= 0 && std::abs(c - anchor) > band) continue;
       const Vec3 q = s.true_poses[size_t(c)] * pw;
       optimize::BundleObservation o;
       o.camera = c;

@@ -11,7 +11,21 @@ namespace tkgslam::optimize {
 
 namespace {
 
-constexpr size_t kMaxDenseSchurPoses = 40;
+// When the reduced camera system is solved as a dense matrix. Eliminating the points costs
+// about the same either way in arithmetic, but the sparse path pays a locked cell lookup per block
+// update (work ~ sum over points of k^2, k = free poses seeing the point), the dense path a
+// Cholesky factorisation of 6n x 6n (~ n^3). Fitted on synthetic windows (linear-solver time of
+// one BA, dense vs sparse; n free poses, share = pairs of them that see a common point):
+//   n =  58, share 1.00, sum k^2 / n^3 = 7.6:   230 vs 540 ms
+//   n =  98, share 0.37, 0.84:                  238 vs 268 ms
+//   n = 248, share 0.30, 0.41:                 1609 vs 2511 ms
+//   n = 198, share 0.16, 0.11:                  361 vs 405 ms
+//   n = 298, share 0.11, 0.042:                 970 vs 477 ms
+//   n = 148, share 0.08, 0.044:                 109 vs  57 ms
+//   n = 198, share 0.06, 0.025:                 216 vs  76 ms
+constexpr size_t kAlwaysDenseSchurPoses = 40;
+constexpr size_t kMaxDenseSchurPoses = 400;  // 2400 x 2400 doubles: 46 MB
+constexpr double kMinDenseSchurWorkPerCube = 0.1;
 
 // The residual's squared norm: information x squared pixel error (the third row is 0 without depth).
 double chi2Of(const BundleObservation& o, const PinholeIntrinsics& K, const Eigen::Quaterniond& q,
@@ -26,6 +40,18 @@ double chi2Of(const BundleObservation& o, const PinholeIntrinsics& K, const Eige
 
 }  // namespace
 
+bool prefersDenseSchur(const BundleProblem& pb) {
+  const auto n = size_t(std::count(pb.fixed_pose.begin(), pb.fixed_pose.end(), 0));
+  if (n <= kAlwaysDenseSchurPoses) return true;
+  if (n > kMaxDenseSchurPoses) return false;
+  std::vector<double> free_seen(pb.points.size(), 0.0);
+  for (const auto& o : pb.observations)
+    if (!pb.fixed_pose[size_t(o.camera)]) free_seen[size_t(o.point)] += 1;
+  double work = 0;
+  for (const double k : free_seen) work += k * k;
+  return work >= kMinDenseSchurWorkPerCube * double(n) * double(n) * double(n);
+}
+
 std::vector<char> solveBundle(BundleProblem& pb, const PinholeIntrinsics& K, const BundleOptions& opt) {
   const size_t nc = pb.poses.size();
   std::vector<Eigen::Quaterniond> q(nc);
@@ -36,7 +62,7 @@ std::vector<char> solveBundle(BundleProblem& pb, const PinholeIntrinsics& K, con
     t[i] = pb.poses[i].translation();
   }
   std::vector<char> outlier(pb.observations.size(), 0);
-  const auto free_poses = size_t(std::count(pb.fixed_pose.begin(), pb.fixed_pose.end(), 0));
+  const bool dense_schur = prefersDenseSchur(pb);
 
   auto run = [&](int iterations, bool robust) {
     ceres::Problem::Options popts;
@@ -62,10 +88,9 @@ std::vector<char> solveBundle(BundleProblem& pb, const PinholeIntrinsics& K, con
     }
     if (problem.NumResidualBlocks() == 0) return;
     ceres::Solver::Options so;
-    // A local window's reduced camera system is small (10 free keyframes: 60 x 60): dense is
-    // faster than CHOLMOD's sparse factorisation and its locked cell lookups (BA 66 -> 55 ms in
-    // tkgslam_bench). Large windows (a user's covisible_keyframes) stay sparse.
-    so.linear_solver_type = free_poses <= kMaxDenseSchurPoses ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;
+    // Dense is faster than CHOLMOD's sparse factorisation and its locked cell lookups unless the
+    // reduced system is large and sparse (see prefersDenseSchur).
+    so.linear_solver_type = dense_schur ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;
     so.max_num_iterations = iterations;
     so.num_threads = opt.threads;
     so.logging_type = ceres::SILENT;
