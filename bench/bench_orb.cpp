@@ -133,24 +133,23 @@ BENCHMARK(BM_DescriptorMatching)->Unit(benchmark::kMillisecond);
 
 // Local mapping's bundle adjustment (robust pass, outlier removal, second pass) on 10 keyframes
 // (2 fixed) and 600 points seen by all, a third of the observations without depth.
-void BM_LocalBundleAdjustment(benchmark::State& state) {
-  const auto s = test::makeSyntheticBundle(10, 600, 0.05);
+void solveEachIteration(benchmark::State& state, const test::SyntheticBundle& s) {
   for (auto _ : state) {
     auto problem = s.problem;
     benchmark::DoNotOptimize(optimize::solveBundle(problem, s.K, {}));
   }
+  state.counters["dense_schur"] = optimize::prefersDenseSchur(s.problem);
+}
+
+void BM_LocalBundleAdjustment(benchmark::State& state) {
+  solveEachIteration(state, test::makeSyntheticBundle(10, 600, 0.05));
 }
 BENCHMARK(BM_LocalBundleAdjustment)->Unit(benchmark::kMillisecond);
 
 // The window of a long run in a small scene (fr1_xyz late on: every keyframe covisible with every
 // other, ~60 free keyframes in local BA): 60 keyframes (2 fixed), 440 points seen by all.
 void BM_LocalBundleAdjustmentCovisible60(benchmark::State& state) {
-  const auto s = test::makeSyntheticBundle(60, 440, 0.05, 0.01, 0.002);
-  for (auto _ : state) {
-    auto problem = s.problem;
-    benchmark::DoNotOptimize(optimize::solveBundle(problem, s.K, {}));
-  }
-  state.counters["dense_schur"] = optimize::prefersDenseSchur(s.problem);
+  solveEachIteration(state, test::makeSyntheticBundle(60, 440, 0.05, 0.01, 0.002));
 }
 BENCHMARK(BM_LocalBundleAdjustmentCovisible60)->Unit(benchmark::kMillisecond);
 

@@ -72,7 +72,7 @@ TEST(ReprojectionCost, ResidualAndJacobiansEqualAutomaticDifferentiation) {
 
     // The residual alone (the outlier test's chi-square) is the same numbers.
     double r_c[3];
-    analytic.residual(q.coeffs().data(), t.data(), p.data(), r_c);
+    analytic.residualAt(q * p + t, r_c);
     for (int i = 0; i < 3; ++i) EXPECT_EQ(r_c[i], r_a[i]);
 
     // Jacobians may be asked for one block at a time.

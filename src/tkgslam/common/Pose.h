@@ -21,6 +21,13 @@ struct StampedPose {
 /// Build a pose from a translation and a (not necessarily normalised) quaternion (x, y, z, w).
 Pose poseFromTranslationQuaternion(const Vec3& t, double qx, double qy, double qz, double qw);
 
+/// The cross-product matrix: skew(a) * b = a x b.
+inline Mat3 skew(const Vec3& a) {
+  Mat3 m;
+  m << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+  return m;
+}
+
 /// SO(3) exponential map (rotation vector in radians -> rotation matrix).
 Mat3 expSO3(const Vec3& omega);
 

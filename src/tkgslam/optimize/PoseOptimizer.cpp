@@ -22,9 +22,7 @@ bool residual(const PoseObservation& o, const PinholeIntrinsics& K, const Pose& 
   e[1] = o.uv.y() - predicted[1];
   e[2] = stereo ? o.u_right - predicted[2] : 0.0;
   Eigen::Matrix<double, 3, 6> Jt;  // d(pc)/d(increment): [-[pc]x, I]
-  Jt << 0, pc.z(), -pc.y(), 1, 0, 0,
-        -pc.z(), 0, pc.x(), 0, 1, 0,
-        pc.y(), -pc.x(), 0, 0, 0, 1;
+  Jt << -skew(pc), Mat3::Identity();
   J = -projectStereoJacobian(K, pc, stereo) * Jt;  // residual = observed - predicted
   if (!stereo) J.row(2).setZero();  // -0 from the product
   return true;

@@ -6,20 +6,10 @@ namespace tkgslam::optimize {
 
 namespace {
 using RowMat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
-
-Mat3 skew(const Vec3& a) {
-  Mat3 m;
-  m << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
-  return m;
-}
 }  // namespace
 
 ReprojectionCost::ReprojectionCost(const BundleObservation& o, const PinholeIntrinsics& K)
     : uv_(o.uv), u_right_(o.u_right), K_(K), s_(std::sqrt(o.information)) {}
-
-void ReprojectionCost::residual(const double* q, const double* t, const double* p, double* r) const {
-  residualAt(Eigen::Map<const Eigen::Quaterniond>(q) * Eigen::Map<const Vec3>(p) + Eigen::Map<const Vec3>(t), r);
-}
 
 void ReprojectionCost::residualAt(const Vec3& pc, double* r) const {
   const Vec3 predicted = projectStereo(K_, pc);

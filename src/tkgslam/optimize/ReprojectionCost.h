@@ -20,13 +20,11 @@ class ReprojectionCost final : public ceres::SizedCostFunction<3, 4, 3, 3> {
   /// parameters: {q (4), t (3), p_w (3)}; jacobians row-major, each may be null.
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
 
-  /// Residual alone (no Ceres): the squared norm is the observation's chi-square.
-  void residual(const double* q, const double* t, const double* p, double* r) const;
-  /// The same for the point already in camera coordinates (p_c = q p + t, metres).
+  /// Residual alone (no Ceres) of the point in camera coordinates (p_c = q p_w + t, metres): its
+  /// squared norm is the observation's chi-square.
   void residualAt(const Vec3& p_c, double* r) const;
 
  private:
-
   Vec2 uv_;
   double u_right_;  ///< < 0: no depth, third residual 0
   PinholeIntrinsics K_;
