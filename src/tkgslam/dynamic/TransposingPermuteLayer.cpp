@@ -1,0 +1,104 @@
+#include "tkgslam/dynamic/TransposingPermuteLayer.h"
+
+#include <mutex>
+#include <string>
+
+#include <opencv2/core.hpp>
+#include <opencv2/dnn/all_layers.hpp>
+#include <opencv2/dnn/layer.hpp>
+
+namespace tkgslam::dynamic {
+
+TransposeBlocks transposeBlocks(const std::vector<int>& order, const std::vector<int>& shape) {
+  const int n = int(order.size());
+  if (n != int(shape.size())) return {};
+  int k = 0;
+  while (k < n && order[k] == k) ++k;
+  if (k == n) return {};  // identity
+  const int m = order[k];
+  if (m <= k) return {};
+  // Expected tail: m, m+1, ..., n-1, k, k+1, ..., m-1.
+  for (int i = k; i < n; ++i) {
+    const int from = i - k + m;
+    if (order[i] != (from < n ? from : from - n + k)) return {};
+  }
+  TransposeBlocks blocks{1, 1, 1};
+  for (int i = 0; i < k; ++i) blocks.batch *= size_t(shape[i]);
+  for (int i = k; i < m; ++i) blocks.rows *= size_t(shape[i]);
+  for (int i = m; i < n; ++i) blocks.cols *= size_t(shape[i]);
+  return blocks;
+}
+
+namespace {
+
+class TransposingPermuteLayer : public cv::dnn::Layer {
+ public:
+  explicit TransposingPermuteLayer(cv::dnn::LayerParams& params) : opencv_(cv::dnn::PermuteLayer::create(params)) {
+    setParamsFrom(params);
+    if (params.has("order")) {
+      const cv::dnn::DictValue& order = params.get("order");
+      for (int i = 0; i < order.size(); ++i) order_.push_back(order.get<int>(i));
+    }
+  }
+
+  bool getMemoryShapes(const std::vector<cv::dnn::MatShape>& inputs, const int required_outputs,
+                       std::vector<cv::dnn::MatShape>& outputs,
+                       std::vector<cv::dnn::MatShape>& internals) const override {
+    return opencv_->getMemoryShapes(inputs, required_outputs, outputs, internals);
+  }
+
+  void finalize(cv::InputArrayOfArrays inputs, cv::OutputArrayOfArrays outputs) override {
+    opencv_->finalize(inputs, outputs);
+  }
+
+  void forward(cv::InputArrayOfArrays inputs_arr, cv::OutputArrayOfArrays outputs_arr,
+               cv::OutputArrayOfArrays internals_arr) override {
+    std::vector<cv::Mat> inputs, outputs;
+    inputs_arr.getMatVector(inputs);
+    outputs_arr.getMatVector(outputs);
+    TransposeBlocks blocks;
+    if (inputs.size() == 1 && outputs.size() == 1 && inputs[0].type() == CV_32F && outputs[0].type() == CV_32F &&
+        inputs[0].isContinuous() && outputs[0].isContinuous()) {
+      blocks = transposeBlocks(order_, std::vector<int>(inputs[0].size.p, inputs[0].size.p + inputs[0].dims));
+    }
+    if (blocks.batch == 0 || blocks.rows * blocks.cols != inputs[0].total() / blocks.batch ||
+        outputs[0].total() != inputs[0].total()) {
+      opencv_->forward(inputs_arr, outputs_arr, internals_arr);
+      return;
+    }
+    const size_t block = blocks.rows * blocks.cols;
+    const float* src = inputs[0].ptr<float>();
+    float* dst = outputs[0].ptr<float>();
+    for (size_t b = 0; b < blocks.batch; ++b) {
+      const cv::Mat from(int(blocks.rows), int(blocks.cols), CV_32F, const_cast<float*>(src + b * block));
+      cv::Mat to(int(blocks.cols), int(blocks.rows), CV_32F, dst + b * block);
+      cv::transpose(from, to);
+    }
+  }
+
+ private:
+  cv::Ptr<cv::dnn::Layer> opencv_;  // OpenCV's own Permute: shapes, and the permutations not done here
+  std::vector<int> order_;
+};
+
+}  // namespace
+
+cv::Ptr<cv::dnn::Layer> createTransposingPermuteLayer(cv::dnn::LayerParams& params) {
+  return cv::Ptr<cv::dnn::Layer>(new TransposingPermuteLayer(params));
+}
+
+cv::dnn::Net readOnnxWithTransposingPermute(const std::vector<uchar>& model) {
+  // The registry is process-wide; one load at a time here keeps the register/unregister pairs whole.
+  static std::mutex registry;
+  std::lock_guard<std::mutex> lock(registry);
+  cv::dnn::LayerFactory::registerLayer("Permute", createTransposingPermuteLayer);
+  struct Unregister {
+    ~Unregister() { cv::dnn::LayerFactory::unregisterLayer("Permute"); }
+  } unregister;
+  cv::dnn::Net net = cv::dnn::readNetFromONNX(model);
+  // OpenCV creates a layer on first use; create them all while the registration holds.
+  for (const std::string& name : net.getLayerNames()) net.getLayer(net.getLayerId(name));
+  return net;
+}
+
+}  // namespace tkgslam::dynamic
