@@ -1,6 +1,5 @@
 #include "tkgslam/dynamic/TransposingPermuteLayer.h"
 
-#include <mutex>
 #include <string>
 
 #include <opencv2/core.hpp>
@@ -61,8 +60,7 @@ class TransposingPermuteLayer : public cv::dnn::Layer {
         inputs[0].isContinuous() && outputs[0].isContinuous()) {
       blocks = transposeBlocks(order_, std::vector<int>(inputs[0].size.p, inputs[0].size.p + inputs[0].dims));
     }
-    if (blocks.batch == 0 || blocks.rows * blocks.cols != inputs[0].total() / blocks.batch ||
-        outputs[0].total() != inputs[0].total()) {
+    if (blocks.batch == 0 || outputs[0].total() != inputs[0].total()) {
       opencv_->forward(inputs_arr, outputs_arr, internals_arr);
       return;
     }
@@ -85,20 +83,6 @@ class TransposingPermuteLayer : public cv::dnn::Layer {
 
 cv::Ptr<cv::dnn::Layer> createTransposingPermuteLayer(cv::dnn::LayerParams& params) {
   return cv::Ptr<cv::dnn::Layer>(new TransposingPermuteLayer(params));
-}
-
-cv::dnn::Net readOnnxWithTransposingPermute(const std::vector<uchar>& model) {
-  // The registry is process-wide; one load at a time here keeps the register/unregister pairs whole.
-  static std::mutex registry;
-  std::lock_guard<std::mutex> lock(registry);
-  cv::dnn::LayerFactory::registerLayer("Permute", createTransposingPermuteLayer);
-  struct Unregister {
-    ~Unregister() { cv::dnn::LayerFactory::unregisterLayer("Permute"); }
-  } unregister;
-  cv::dnn::Net net = cv::dnn::readNetFromONNX(model);
-  // OpenCV creates a layer on first use; create them all while the registration holds.
-  for (const std::string& name : net.getLayerNames()) net.getLayer(net.getLayerId(name));
-  return net;
 }
 
 }  // namespace tkgslam::dynamic

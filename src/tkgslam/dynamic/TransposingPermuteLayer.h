@@ -28,8 +28,4 @@ TransposeBlocks transposeBlocks(const std::vector<int>& order, const std::vector
 /// and runs OpenCV's own Permute otherwise.
 cv::Ptr<cv::dnn::Layer> createTransposingPermuteLayer(cv::dnn::LayerParams& params);
 
-/// cv::dnn::readNetFromONNX on the bytes of an ONNX file, its Permute layers this layer. OpenCV's
-/// layer registry is changed only while the net loads and its layers are created.
-cv::dnn::Net readOnnxWithTransposingPermute(const std::vector<uchar>& model);
-
 }  // namespace tkgslam::dynamic

@@ -10,7 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "tkgslam/common/Error.h"
-#include "tkgslam/dynamic/TransposingPermuteLayer.h"
+#include "tkgslam/dynamic/OnnxLoader.h"
 #include "tkgslam/dynamic/YoloHeadResize.h"
 #include "tkgslam/io/InputFile.h"
 
@@ -177,7 +177,7 @@ YoloDetector::YoloDetector(const DetectorParams& params) : params_(params) {
 }
 
 cv::dnn::Net YoloDetector::load() const {
-  cv::dnn::Net net = readOnnxWithTransposingPermute(model_bytes_);
+  cv::dnn::Net net = readOnnxWithFastLayers(model_bytes_);
   if (net.empty()) throw InputError(fmt::format("detector: ONNX model '{}' is empty", params_.model));
   net.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
   net.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);

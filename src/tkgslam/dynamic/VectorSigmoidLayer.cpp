@@ -1,0 +1,96 @@
+#include "tkgslam/dynamic/VectorSigmoidLayer.h"
+
+#include <algorithm>
+#include <cstring>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace tkgslam::dynamic {
+
+namespace {
+
+// GCC vector types: eight floats, compiled to two SSE2 or one AVX2 register.
+typedef float Floats __attribute__((vector_size(32)));
+typedef int Ints __attribute__((vector_size(32)));
+constexpr int kLanes = 8;
+
+// exp(-x) by range reduction to r in [-ln2/2, ln2/2] (exp = 2^n e^r) and Cephes' polynomial for
+// e^r, then 1 / (1 + exp(-x)). -x is clamped to [-87, 88], where 2^n stays a normal float: beyond it
+// the sigmoid is 0 or 1 to float precision anyway.
+// Neither clone may use FMA (the "avx2" target does not include it), so a * b + c is rounded twice
+// in both and they give the same bits.
+__attribute__((target_clones("avx2", "default"))) void sigmoidBlocks(const float* x, float* y, size_t blocks) {
+  for (size_t b = 0; b < blocks; ++b) {
+    Floats v;
+    std::memcpy(&v, x + b * kLanes, sizeof v);
+    Floats t = -v;
+    t = t > (Floats{} + 88.f) ? (Floats{} + 88.f) : t;
+    t = t < (Floats{} + -87.f) ? (Floats{} + -87.f) : t;
+    const Floats n = (t * 1.44269504088896341f + 12582912.f) - 12582912.f;  // round(t / ln 2)
+    Floats r = t - n * 0.693359375f;  // ln 2 in two parts, the first exact in float
+    r = r - n * -2.12194440e-4f;
+    Floats p = (Floats{} + 1.9875691500e-4f);
+    p = p * r + 1.3981999507e-3f;
+    p = p * r + 8.3334519073e-3f;
+    p = p * r + 4.1665795894e-2f;
+    p = p * r + 1.6666665459e-1f;
+    p = p * r + 5.0000001201e-1f;
+    p = p * r * r + r + 1.f;
+    const Ints exponent = (__builtin_convertvector(n, Ints) + 127) << 23;
+    Floats two_n;
+    std::memcpy(&two_n, &exponent, sizeof two_n);
+    const Floats s = 1.f / (1.f + p * two_n);
+    std::memcpy(y + b * kLanes, &s, sizeof s);
+  }
+}
+
+class VectorSigmoidLayer : public cv::dnn::Layer {
+ public:
+  explicit VectorSigmoidLayer(cv::dnn::LayerParams& params) { setParamsFrom(params); }
+
+  bool getMemoryShapes(const std::vector<cv::dnn::MatShape>& inputs, const int required_outputs,
+                       std::vector<cv::dnn::MatShape>& outputs,
+                       std::vector<cv::dnn::MatShape>& internals) const override {
+    Layer::getMemoryShapes(inputs, required_outputs, outputs, internals);
+    return true;  // may run in place
+  }
+
+  void forward(cv::InputArrayOfArrays inputs_arr, cv::OutputArrayOfArrays outputs_arr,
+               cv::OutputArrayOfArrays) override {
+    std::vector<cv::Mat> inputs, outputs;
+    inputs_arr.getMatVector(inputs);
+    outputs_arr.getMatVector(outputs);
+    for (size_t i = 0; i < inputs.size(); ++i) {
+      CV_Assert(inputs[i].type() == CV_32F && inputs[i].isContinuous() && outputs[i].isContinuous() &&
+                outputs[i].total() == inputs[i].total());
+      const float* x = inputs[i].ptr<float>();
+      float* y = outputs[i].ptr<float>();
+      const size_t n = inputs[i].total();
+      constexpr size_t kStripe = 1 << 15;  // values per task; the result does not depend on the split
+      cv::parallel_for_(cv::Range(0, int((n + kStripe - 1) / kStripe)), [&](const cv::Range& range) {
+        const size_t begin = size_t(range.start) * kStripe, end = std::min(n, size_t(range.end) * kStripe);
+        vectorSigmoid(x + begin, y + begin, end - begin);
+      });
+    }
+  }
+};
+
+}  // namespace
+
+void vectorSigmoid(const float* x, float* y, size_t n) {
+  const size_t whole = n / kLanes;
+  sigmoidBlocks(x, y, whole);
+  const size_t done = whole * kLanes;
+  if (done == n) return;
+  float tail[kLanes] = {};  // the last few values through the same code, so every value gets the same function
+  std::copy(x + done, x + n, tail);
+  sigmoidBlocks(tail, tail, 1);
+  std::copy(tail, tail + (n - done), y + done);
+}
+
+cv::Ptr<cv::dnn::Layer> createVectorSigmoidLayer(cv::dnn::LayerParams& params) {
+  return cv::Ptr<cv::dnn::Layer>(new VectorSigmoidLayer(params));
+}
+
+}  // namespace tkgslam::dynamic

@@ -1,0 +1,63 @@
+#include <cmath>
+#include <fstream>
+#include <iterator>
+
+#include <opencv2/dnn.hpp>
+#include <opencv2/dnn/all_layers.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <gtest/gtest.h>
+
+#include "TestSupport.h"
+#include "tkgslam/dynamic/OnnxLoader.h"
+
+namespace tkgslam {
+namespace {
+
+// Layers of `type` that are not OpenCV's own class `Own`.
+template <class Own>
+int oursOfType(cv::dnn::Net& net, const std::string& type) {
+  int n = 0;
+  for (const auto& name : net.getLayerNames()) {
+    const auto layer = net.getLayer(net.getLayerId(name));
+    n += layer->type == type && !dynamic_cast<Own*>(layer.get());
+  }
+  return n;
+}
+
+TEST(OnnxLoader, YoloOnARealPhotoGivesOpenCvsOutputAndTheRegistryIsRestored) {
+  TKGSLAM_REQUIRE_SHARED();
+  std::ifstream file(test::yoloModel(), std::ios::binary);
+  const std::vector<uchar> model((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  cv::dnn::Net ours = dynamic::readOnnxWithFastLayers(model);
+  cv::dnn::Net opencv = cv::dnn::readNetFromONNX(model);  // loaded after ours: OpenCV's layers again
+  EXPECT_EQ(oursOfType<cv::dnn::PermuteLayer>(ours, "Permute"), 3);   // the head's three levels
+  EXPECT_EQ(oursOfType<cv::dnn::SigmoidLayer>(ours, "Sigmoid"), 60);  // 57 SiLU, 3 in the head
+  EXPECT_EQ(oursOfType<cv::dnn::PermuteLayer>(opencv, "Permute"), 0);
+  EXPECT_EQ(oursOfType<cv::dnn::SigmoidLayer>(opencv, "Sigmoid"), 0);
+
+  const cv::Mat photo = cv::imread((test::sharedDir() / "datasets" / "people" / "bus.jpg").string());
+  ASSERT_FALSE(photo.empty());
+  const cv::Mat blob = cv::dnn::blobFromImage(photo, 1.0 / 255.0, cv::Size(640, 640), cv::Scalar(), true, false);
+  ours.setInput(blob);
+  const cv::Mat a = ours.forward().clone();
+  opencv.setInput(blob);
+  const cv::Mat b = opencv.forward().clone();
+  ASSERT_EQ(a.total(), b.total());
+  // Every output (box in input pixels, scores in 0..1) within 1e-3 of OpenCV's; the persons the same.
+  int persons = 0, persons_opencv = 0;
+  double worst = 0;
+  for (int i = 0; i < a.size[1]; ++i) {
+    const float* p = a.ptr<float>(0, i);
+    const float* q = b.ptr<float>(0, i);
+    for (int k = 0; k < a.size[2]; ++k) worst = std::max(worst, double(std::abs(p[k] - q[k])));
+    persons += p[4] * p[5] > 0.5f;
+    persons_opencv += q[4] * q[5] > 0.5f;
+  }
+  EXPECT_LT(worst, 1e-3);
+  EXPECT_GT(persons, 3);
+  EXPECT_EQ(persons, persons_opencv);
+}
+
+}  // namespace
+}  // namespace tkgslam
