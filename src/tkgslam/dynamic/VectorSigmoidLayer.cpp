@@ -13,6 +13,7 @@ namespace {
 // GCC vector types: eight floats, compiled to two SSE2 or one AVX2 register.
 typedef float Floats __attribute__((vector_size(32)));
 typedef int Ints __attribute__((vector_size(32)));
+typedef unsigned UInts __attribute__((vector_size(32)));
 constexpr int kLanes = 8;
 
 // exp(-x) by range reduction to r in [-ln2/2, ln2/2] (exp = 2^n e^r) and Cephes' polynomial for
@@ -37,7 +38,8 @@ __attribute__((target_clones("avx2", "default"))) void sigmoidBlocks(const float
     p = p * r + 1.6666665459e-1f;
     p = p * r + 5.0000001201e-1f;
     p = p * r * r + r + 1.f;
-    const Ints exponent = (__builtin_convertvector(n, Ints) + 127) << 23;
+    const Ints biased = __builtin_convertvector(n, Ints) + 127;  // 1..254 for the clamped range
+    const UInts exponent = UInts(biased) << 23;                  // unsigned: no shift of a negative (NaN)
     Floats two_n;
     std::memcpy(&two_n, &exponent, sizeof two_n);
     const Floats s = 1.f / (1.f + p * two_n);
