@@ -1,8 +1,8 @@
 #include "tkgslam/dynamic/OnnxLoader.h"
 
 #include <mutex>
-#include <utility>
 #include <string>
+#include <utility>
 
 #include <opencv2/dnn/layer.hpp>
 

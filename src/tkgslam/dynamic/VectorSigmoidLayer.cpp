@@ -19,9 +19,9 @@ constexpr int kLanes = 8;
 // exp(-x) by range reduction to r in [-ln2/2, ln2/2] (exp = 2^n e^r) and Cephes' polynomial for
 // e^r, then 1 / (1 + exp(-x)). -x is clamped to [-87, 88], where 2^n stays a normal float: beyond it
 // the sigmoid is 0 or 1 to float precision anyway.
-// Neither clone may use FMA (the "avx2" target does not include it), so a * b + c is rounded twice
-// in both and they give the same bits.
-__attribute__((target_clones("avx2", "default"))) void sigmoidBlocks(const float* x, float* y, size_t blocks) {
+// Inlined into a baseline and an AVX2 build below. Neither may use FMA (the "avx2" target does not
+// include it), so a * b + c is rounded twice in both and they give the same bits.
+inline __attribute__((always_inline)) void sigmoidBlocksBody(const float* x, float* y, size_t blocks) {
   for (size_t b = 0; b < blocks; ++b) {
     Floats v;
     std::memcpy(&v, x + b * kLanes, sizeof v);
@@ -45,6 +45,19 @@ __attribute__((target_clones("avx2", "default"))) void sigmoidBlocks(const float
     const Floats s = 1.f / (1.f + p * two_n);
     std::memcpy(y + b * kLanes, &s, sizeof s);
   }
+}
+
+__attribute__((target("avx2"))) void sigmoidBlocksAvx2(const float* x, float* y, size_t blocks) {
+  sigmoidBlocksBody(x, y, blocks);
+}
+
+void sigmoidBlocksBaseline(const float* x, float* y, size_t blocks) { sigmoidBlocksBody(x, y, blocks); }
+
+// Chosen once at run time by a plain branch, not an ifunc (GCC's target_clones): ifunc resolvers
+// run while the program is being relocated, before ThreadSanitizer's runtime is up, and crash it.
+void sigmoidBlocks(const float* x, float* y, size_t blocks) {
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  (avx2 ? sigmoidBlocksAvx2 : sigmoidBlocksBaseline)(x, y, blocks);
 }
 
 class VectorSigmoidLayer : public cv::dnn::Layer {
