@@ -1,6 +1,5 @@
 #include <cmath>
-#include <fstream>
-#include <iterator>
+#include <string>
 
 #include <opencv2/dnn.hpp>
 #include <opencv2/dnn/all_layers.hpp>
@@ -27,8 +26,8 @@ int oursOfType(cv::dnn::Net& net, const std::string& type) {
 
 TEST(OnnxLoader, YoloOnARealPhotoGivesOpenCvsOutputAndTheRegistryIsRestored) {
   TKGSLAM_REQUIRE_SHARED();
-  std::ifstream file(test::yoloModel(), std::ios::binary);
-  const std::vector<uchar> model((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const std::string bytes = test::readFile(test::yoloModel());
+  const std::vector<uchar> model(bytes.begin(), bytes.end());
   cv::dnn::Net ours = dynamic::readOnnxWithFastLayers(model);
   cv::dnn::Net opencv = cv::dnn::readNetFromONNX(model);  // loaded after ours: OpenCV's layers again
   EXPECT_EQ(oursOfType<cv::dnn::PermuteLayer>(ours, "Permute"), 3);   // the head's three levels

@@ -46,30 +46,34 @@ class TransposingPermuteLayer : public cv::dnn::Layer {
     return opencv_->getMemoryShapes(inputs, required_outputs, outputs, internals);
   }
 
-  void finalize(cv::InputArrayOfArrays inputs, cv::OutputArrayOfArrays outputs) override {
-    opencv_->finalize(inputs, outputs);
+  // OpenCV calls this whenever the input shape changes: the blocks are worked out once per shape.
+  void finalize(cv::InputArrayOfArrays inputs_arr, cv::OutputArrayOfArrays outputs_arr) override {
+    opencv_->finalize(inputs_arr, outputs_arr);
+    std::vector<cv::Mat> inputs, outputs;
+    inputs_arr.getMatVector(inputs);
+    outputs_arr.getMatVector(outputs);
+    blocks_ = {};
+    if (inputs.size() == 1 && outputs.size() == 1 && inputs[0].type() == CV_32F && outputs[0].type() == CV_32F &&
+        inputs[0].isContinuous() && outputs[0].isContinuous() && outputs[0].total() == inputs[0].total()) {
+      blocks_ = transposeBlocks(order_, std::vector<int>(inputs[0].size.p, inputs[0].size.p + inputs[0].dims));
+    }
   }
 
   void forward(cv::InputArrayOfArrays inputs_arr, cv::OutputArrayOfArrays outputs_arr,
                cv::OutputArrayOfArrays internals_arr) override {
-    std::vector<cv::Mat> inputs, outputs;
-    inputs_arr.getMatVector(inputs);
-    outputs_arr.getMatVector(outputs);
-    TransposeBlocks blocks;
-    if (inputs.size() == 1 && outputs.size() == 1 && inputs[0].type() == CV_32F && outputs[0].type() == CV_32F &&
-        inputs[0].isContinuous() && outputs[0].isContinuous()) {
-      blocks = transposeBlocks(order_, std::vector<int>(inputs[0].size.p, inputs[0].size.p + inputs[0].dims));
-    }
-    if (blocks.batch == 0 || outputs[0].total() != inputs[0].total()) {
+    if (blocks_.batch == 0) {
       opencv_->forward(inputs_arr, outputs_arr, internals_arr);
       return;
     }
-    const size_t block = blocks.rows * blocks.cols;
+    std::vector<cv::Mat> inputs, outputs;
+    inputs_arr.getMatVector(inputs);
+    outputs_arr.getMatVector(outputs);
+    const size_t block = blocks_.rows * blocks_.cols;
     const float* src = inputs[0].ptr<float>();
     float* dst = outputs[0].ptr<float>();
-    for (size_t b = 0; b < blocks.batch; ++b) {
-      const cv::Mat from(int(blocks.rows), int(blocks.cols), CV_32F, const_cast<float*>(src + b * block));
-      cv::Mat to(int(blocks.cols), int(blocks.rows), CV_32F, dst + b * block);
+    for (size_t b = 0; b < blocks_.batch; ++b) {
+      const cv::Mat from(int(blocks_.rows), int(blocks_.cols), CV_32F, const_cast<float*>(src + b * block));
+      cv::Mat to(int(blocks_.cols), int(blocks_.rows), CV_32F, dst + b * block);
       cv::transpose(from, to);
     }
   }
@@ -77,6 +81,7 @@ class TransposingPermuteLayer : public cv::dnn::Layer {
  private:
   cv::Ptr<cv::dnn::Layer> opencv_;  // OpenCV's own Permute: shapes, and the permutations not done here
   std::vector<int> order_;
+  TransposeBlocks blocks_;  // of the shape last finalized; batch 0: OpenCV's layer does it
 };
 
 }  // namespace
