@@ -10,6 +10,8 @@
 #include <string>
 
 #include "tkgslam/common/Error.h"
+#include "tkgslam/dynamic/OnnxSiluFusion.h"
+#include "tkgslam/dynamic/ProtobufWire.h"
 #include "tkgslam/eval/Association.h"
 #include "tkgslam/io/ConfigFile.h"
 #include "tkgslam/io/MapFile.h"
@@ -114,6 +116,22 @@ inline void fuzzMapFile(const std::uint8_t* data, std::size_t size) {
     __builtin_trap();  // a map it accepted, written out, must be accepted again
   }
   if (io::serializeMap(again, camera, pyramid) != written) __builtin_trap();
+}
+
+/// An ONNX model file (`dynamic.model`) through the SiLU fusion the detector runs before OpenCV reads
+/// it. A model it does not change comes back byte for byte; one it changes must be a well-formed
+/// message with nothing left to fuse.
+inline void fuzzOnnxGraph(const std::uint8_t* data, std::size_t size) {
+  const std::vector<uchar> model(data, data + size);
+  const dynamic::SiluFusion result = dynamic::fuseSiluNodes(model, "Silu");
+  if (result.fused == 0) {
+    if (result.model != model) __builtin_trap();
+    return;
+  }
+  std::vector<dynamic::WireField> fields;
+  const std::string_view out(reinterpret_cast<const char*>(result.model.data()), result.model.size());
+  if (!dynamic::splitWireFields(out, fields)) __builtin_trap();
+  if (dynamic::fuseSiluNodes(result.model, "Silu").fused != 0) __builtin_trap();
 }
 
 }  // namespace tkgslam::fuzz

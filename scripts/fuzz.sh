@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Fuzzes the parsers that read user files (TUM image lists + association, association files, TUM trajectories,
-# YAML configs, map files) with libFuzzer + ASan + UBSan (+ LeakSanitizer), using Debian's clang.
+# YAML configs, map files, the detector model's ONNX graph as our SiLU fusion reads it) with libFuzzer + ASan +
+# UBSan (+ LeakSanitizer), using Debian's clang.
 #   scripts/fuzz.sh          # 600 s per target (the issue-7 soak; ~30 min in all)
 #   scripts/fuzz.sh 30       # the short run CI does
 # Seeds: fuzz/corpus/<target>/ (heads of real TUM files, the shipped configs) plus every input in
@@ -21,7 +22,7 @@ cmake --build "$DIR" -j"$(nproc)"
 export ASAN_OPTIONS=detect_leaks=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 status=0
-for pair in TumLists:tum_lists Trajectory:trajectory Config:config MapFile:map_file; do
+for pair in TumLists:tum_lists Trajectory:trajectory Config:config MapFile:map_file OnnxGraph:onnx_graph; do
   target=${pair%%:*}; name=${pair##*:}
   work="$DIR/corpus/$name"; artifacts="$DIR/artifacts/$name/"
   mkdir -p "$work" "$artifacts" "fuzz/regressions/$name"

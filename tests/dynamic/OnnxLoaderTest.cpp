@@ -1,4 +1,5 @@
 #include <cmath>
+#include <cstring>
 #include <string>
 
 #include <opencv2/dnn.hpp>
@@ -9,6 +10,7 @@
 
 #include "TestSupport.h"
 #include "tkgslam/dynamic/OnnxLoader.h"
+#include "tkgslam/dynamic/VectorSigmoidLayer.h"
 
 namespace tkgslam {
 namespace {
@@ -31,9 +33,11 @@ TEST(OnnxLoader, YoloOnARealPhotoGivesOpenCvsOutputAndTheRegistryIsRestored) {
   cv::dnn::Net ours = dynamic::readOnnxWithFastLayers(model);
   cv::dnn::Net opencv = cv::dnn::readNetFromONNX(model);  // loaded after ours: OpenCV's layers again
   EXPECT_EQ(oursOfType<cv::dnn::PermuteLayer>(ours, "Permute"), 3);   // the head's three levels
-  EXPECT_EQ(oursOfType<cv::dnn::SigmoidLayer>(ours, "Sigmoid"), 60);  // 57 SiLU, 3 in the head
+  EXPECT_EQ(oursOfType<cv::dnn::SigmoidLayer>(ours, "Sigmoid"), 3);   // the head's
+  EXPECT_EQ(oursOfType<cv::dnn::SigmoidLayer>(ours, dynamic::kFusedSiluType), 57);  // SiLU, Sigmoid + Mul fused
   EXPECT_EQ(oursOfType<cv::dnn::PermuteLayer>(opencv, "Permute"), 0);
   EXPECT_EQ(oursOfType<cv::dnn::SigmoidLayer>(opencv, "Sigmoid"), 0);
+  EXPECT_EQ(oursOfType<cv::dnn::SigmoidLayer>(opencv, dynamic::kFusedSiluType), 0);
 
   const cv::Mat photo = cv::imread((test::sharedDir() / "datasets" / "people" / "bus.jpg").string());
   ASSERT_FALSE(photo.empty());
@@ -56,6 +60,29 @@ TEST(OnnxLoader, YoloOnARealPhotoGivesOpenCvsOutputAndTheRegistryIsRestored) {
   EXPECT_LT(worst, 1e-3);
   EXPECT_GT(persons, 3);
   EXPECT_EQ(persons, persons_opencv);
+}
+
+TEST(OnnxLoader, FusingSiluChangesNoBitOfYolosOutput) {
+  TKGSLAM_REQUIRE_SHARED();
+  const std::string bytes = test::readFile(test::yoloModel());
+  const std::vector<uchar> model(bytes.begin(), bytes.end());
+  cv::dnn::Net fused = dynamic::readOnnxWithFastLayers(model);
+  // The same model with our Sigmoid layer, its Sigmoid + Mul pairs left as they are.
+  cv::dnn::LayerFactory::registerLayer("Sigmoid", dynamic::createVectorSigmoidLayer);
+  cv::dnn::Net pairs = cv::dnn::readNetFromONNX(model);
+  for (const auto& name : pairs.getLayerNames()) pairs.getLayer(pairs.getLayerId(name));
+  cv::dnn::LayerFactory::unregisterLayer("Sigmoid");
+  EXPECT_EQ(oursOfType<cv::dnn::SigmoidLayer>(pairs, "Sigmoid"), 60);
+
+  const cv::Mat photo = cv::imread((test::sharedDir() / "datasets" / "people" / "zidane.jpg").string());
+  ASSERT_FALSE(photo.empty());
+  const cv::Mat blob = cv::dnn::blobFromImage(photo, 1.0 / 255.0, cv::Size(640, 640), cv::Scalar(), true, false);
+  fused.setInput(blob);
+  const cv::Mat a = fused.forward().clone();
+  pairs.setInput(blob);
+  const cv::Mat b = pairs.forward().clone();
+  ASSERT_EQ(a.total(), b.total());
+  EXPECT_EQ(std::memcmp(a.data, b.data, a.total() * a.elemSize()), 0);
 }
 
 }  // namespace

@@ -30,6 +30,7 @@ TEST(FuzzRegression, TumListsInputs) { EXPECT_GE(replay("tum_lists", fuzz::fuzzT
 TEST(FuzzRegression, TrajectoryInputs) { EXPECT_GE(replay("trajectory", fuzz::fuzzTrajectory), 3); }
 TEST(FuzzRegression, ConfigInputs) { EXPECT_GE(replay("config", fuzz::fuzzConfig), 4); }
 TEST(FuzzRegression, MapFileInputs) { EXPECT_GE(replay("map_file", fuzz::fuzzMapFile), 1); }
+TEST(FuzzRegression, OnnxGraphInputs) { EXPECT_GE(replay("onnx_graph", fuzz::fuzzOnnxGraph), 2); }
 
 }  // namespace
 }  // namespace tkgslam

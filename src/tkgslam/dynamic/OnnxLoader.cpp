@@ -6,8 +6,10 @@
 
 #include <opencv2/dnn/layer.hpp>
 
+#include "tkgslam/dynamic/OnnxSiluFusion.h"
 #include "tkgslam/dynamic/TransposingPermuteLayer.h"
 #include "tkgslam/dynamic/VectorSigmoidLayer.h"
+#include "tkgslam/dynamic/VectorSiluLayer.h"
 
 namespace tkgslam::dynamic {
 
@@ -29,13 +31,17 @@ class ScopedLayerRegistration {
 
 }  // namespace
 
+const char* const kFusedSiluType = "TkgslamSiLU";
+
 cv::dnn::Net readOnnxWithFastLayers(const std::vector<uchar>& model) {
+  const SiluFusion fused = fuseSiluNodes(model, kFusedSiluType);
   // One load at a time here keeps each register / unregister pair whole.
   static std::mutex registry;
   std::lock_guard<std::mutex> lock(registry);
   const ScopedLayerRegistration permute("Permute", createTransposingPermuteLayer);
   const ScopedLayerRegistration sigmoid("Sigmoid", createVectorSigmoidLayer);
-  cv::dnn::Net net = cv::dnn::readNetFromONNX(model);
+  const ScopedLayerRegistration silu(kFusedSiluType, createVectorSiluLayer);
+  cv::dnn::Net net = cv::dnn::readNetFromONNX(fused.model);
   // OpenCV creates a layer on first use; create them all while the registrations hold.
   for (const std::string& name : net.getLayerNames()) net.getLayer(net.getLayerId(name));
   return net;

@@ -1,0 +1,67 @@
+#include "tkgslam/dynamic/VectorSiluLayer.h"
+
+#include <algorithm>
+#include <vector>
+
+#include <opencv2/dnn/all_layers.hpp>
+
+#include "tkgslam/dynamic/VectorSigmoidLayer.h"
+
+namespace tkgslam::dynamic {
+
+namespace {
+
+class VectorSiluLayer : public cv::dnn::ActivationLayer {
+ public:
+  explicit VectorSiluLayer(cv::dnn::LayerParams& params) { setParamsFrom(params); }
+
+  bool getMemoryShapes(const std::vector<cv::dnn::MatShape>& inputs, const int required_outputs,
+                       std::vector<cv::dnn::MatShape>& outputs,
+                       std::vector<cv::dnn::MatShape>& internals) const override {
+    Layer::getMemoryShapes(inputs, required_outputs, outputs, internals);
+    return true;  // may run in place
+  }
+
+  void forward(cv::InputArrayOfArrays inputs_arr, cv::OutputArrayOfArrays outputs_arr,
+               cv::OutputArrayOfArrays) override {
+    std::vector<cv::Mat> inputs, outputs;
+    inputs_arr.getMatVector(inputs);
+    outputs_arr.getMatVector(outputs);
+    for (size_t i = 0; i < inputs.size(); ++i) {
+      CV_Assert(inputs[i].type() == CV_32F && inputs[i].isContinuous() && outputs[i].isContinuous() &&
+                outputs[i].total() == inputs[i].total());
+      const float* x = inputs[i].ptr<float>();
+      float* y = outputs[i].ptr<float>();
+      const size_t n = inputs[i].total();
+      constexpr size_t kStripe = 1 << 15;  // values per task; the result does not depend on the split
+      cv::parallel_for_(cv::Range(0, int((n + kStripe - 1) / kStripe)), [&](const cv::Range& range) {
+        const size_t begin = size_t(range.start) * kStripe, end = std::min(n, size_t(range.end) * kStripe);
+        vectorSilu(x + begin, y + begin, end - begin);
+      });
+    }
+  }
+
+  // Called by a convolution that took this layer as its activation: channels cn0 .. cn1 - 1 of one
+  // block of its output, `len` values each, `plane` apart.
+  void forwardSlice(const float* src, float* dst, int len, size_t plane, int cn0, int cn1) const override {
+    for (int c = cn0; c < cn1; ++c, src += plane, dst += plane) vectorSilu(src, dst, size_t(len));
+  }
+};
+
+}  // namespace
+
+void vectorSilu(const float* x, float* y, size_t n) {
+  constexpr size_t kChunk = 256;  // sigmoids on the stack, then the products; x is read before y is written
+  float s[kChunk];
+  for (size_t begin = 0; begin < n; begin += kChunk) {
+    const size_t m = std::min(kChunk, n - begin);
+    vectorSigmoid(x + begin, s, m);
+    for (size_t i = 0; i < m; ++i) y[begin + i] = x[begin + i] * s[i];
+  }
+}
+
+cv::Ptr<cv::dnn::Layer> createVectorSiluLayer(cv::dnn::LayerParams& params) {
+  return cv::Ptr<cv::dnn::Layer>(new VectorSiluLayer(params));
+}
+
+}  // namespace tkgslam::dynamic
