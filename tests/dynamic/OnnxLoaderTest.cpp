@@ -26,10 +26,21 @@ int oursOfType(cv::dnn::Net& net, const std::string& type) {
   return n;
 }
 
+std::vector<uchar> yoloModelBytes() {
+  const std::string bytes = test::readFile(test::yoloModel());
+  return std::vector<uchar>(bytes.begin(), bytes.end());
+}
+
+// A photo of ../shared/datasets/people as the 640 x 640 blob the export was made for.
+cv::Mat photoBlob(const std::string& name) {
+  const cv::Mat photo = cv::imread((test::sharedDir() / "datasets" / "people" / name).string());
+  EXPECT_FALSE(photo.empty()) << name;
+  return cv::dnn::blobFromImage(photo, 1.0 / 255.0, cv::Size(640, 640), cv::Scalar(), true, false);
+}
+
 TEST(OnnxLoader, YoloOnARealPhotoGivesOpenCvsOutputAndTheRegistryIsRestored) {
   TKGSLAM_REQUIRE_SHARED();
-  const std::string bytes = test::readFile(test::yoloModel());
-  const std::vector<uchar> model(bytes.begin(), bytes.end());
+  const std::vector<uchar> model = yoloModelBytes();
   cv::dnn::Net ours = dynamic::readOnnxWithFastLayers(model);
   cv::dnn::Net opencv = cv::dnn::readNetFromONNX(model);  // loaded after ours: OpenCV's layers again
   EXPECT_EQ(oursOfType<cv::dnn::PermuteLayer>(ours, "Permute"), 3);   // the head's three levels
@@ -39,9 +50,7 @@ TEST(OnnxLoader, YoloOnARealPhotoGivesOpenCvsOutputAndTheRegistryIsRestored) {
   EXPECT_EQ(oursOfType<cv::dnn::SigmoidLayer>(opencv, "Sigmoid"), 0);
   EXPECT_EQ(oursOfType<cv::dnn::SigmoidLayer>(opencv, dynamic::kFusedSiluType), 0);
 
-  const cv::Mat photo = cv::imread((test::sharedDir() / "datasets" / "people" / "bus.jpg").string());
-  ASSERT_FALSE(photo.empty());
-  const cv::Mat blob = cv::dnn::blobFromImage(photo, 1.0 / 255.0, cv::Size(640, 640), cv::Scalar(), true, false);
+  const cv::Mat blob = photoBlob("bus.jpg");
   ours.setInput(blob);
   const cv::Mat a = ours.forward().clone();
   opencv.setInput(blob);
@@ -64,8 +73,7 @@ TEST(OnnxLoader, YoloOnARealPhotoGivesOpenCvsOutputAndTheRegistryIsRestored) {
 
 TEST(OnnxLoader, FusingSiluChangesNoBitOfYolosOutput) {
   TKGSLAM_REQUIRE_SHARED();
-  const std::string bytes = test::readFile(test::yoloModel());
-  const std::vector<uchar> model(bytes.begin(), bytes.end());
+  const std::vector<uchar> model = yoloModelBytes();
   cv::dnn::Net fused = dynamic::readOnnxWithFastLayers(model);
   // The same model with our Sigmoid layer, its Sigmoid + Mul pairs left as they are.
   cv::dnn::LayerFactory::registerLayer("Sigmoid", dynamic::createVectorSigmoidLayer);
@@ -74,9 +82,7 @@ TEST(OnnxLoader, FusingSiluChangesNoBitOfYolosOutput) {
   cv::dnn::LayerFactory::unregisterLayer("Sigmoid");
   EXPECT_EQ(oursOfType<cv::dnn::SigmoidLayer>(pairs, "Sigmoid"), 60);
 
-  const cv::Mat photo = cv::imread((test::sharedDir() / "datasets" / "people" / "zidane.jpg").string());
-  ASSERT_FALSE(photo.empty());
-  const cv::Mat blob = cv::dnn::blobFromImage(photo, 1.0 / 255.0, cv::Size(640, 640), cv::Scalar(), true, false);
+  const cv::Mat blob = photoBlob("zidane.jpg");
   fused.setInput(blob);
   const cv::Mat a = fused.forward().clone();
   pairs.setInput(blob);

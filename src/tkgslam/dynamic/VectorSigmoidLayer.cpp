@@ -6,6 +6,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "tkgslam/dynamic/ElementwiseForward.h"
+
 namespace tkgslam::dynamic {
 
 namespace {
@@ -71,23 +73,8 @@ class VectorSigmoidLayer : public cv::dnn::Layer {
     return true;  // may run in place
   }
 
-  void forward(cv::InputArrayOfArrays inputs_arr, cv::OutputArrayOfArrays outputs_arr,
-               cv::OutputArrayOfArrays) override {
-    std::vector<cv::Mat> inputs, outputs;
-    inputs_arr.getMatVector(inputs);
-    outputs_arr.getMatVector(outputs);
-    for (size_t i = 0; i < inputs.size(); ++i) {
-      CV_Assert(inputs[i].type() == CV_32F && inputs[i].isContinuous() && outputs[i].isContinuous() &&
-                outputs[i].total() == inputs[i].total());
-      const float* x = inputs[i].ptr<float>();
-      float* y = outputs[i].ptr<float>();
-      const size_t n = inputs[i].total();
-      constexpr size_t kStripe = 1 << 15;  // values per task; the result does not depend on the split
-      cv::parallel_for_(cv::Range(0, int((n + kStripe - 1) / kStripe)), [&](const cv::Range& range) {
-        const size_t begin = size_t(range.start) * kStripe, end = std::min(n, size_t(range.end) * kStripe);
-        vectorSigmoid(x + begin, y + begin, end - begin);
-      });
-    }
+  void forward(cv::InputArrayOfArrays inputs, cv::OutputArrayOfArrays outputs, cv::OutputArrayOfArrays) override {
+    forwardElementwise(inputs, outputs, vectorSigmoid);
   }
 };
 
