@@ -6,7 +6,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "tkgslam/dynamic/ElementwiseForward.h"
+#include "tkgslam/dynamic/ElementwiseLayer.h"
 
 namespace tkgslam::dynamic {
 
@@ -62,22 +62,6 @@ void sigmoidBlocks(const float* x, float* y, size_t blocks) {
   (avx2 ? sigmoidBlocksAvx2 : sigmoidBlocksBaseline)(x, y, blocks);
 }
 
-class VectorSigmoidLayer : public cv::dnn::Layer {
- public:
-  explicit VectorSigmoidLayer(cv::dnn::LayerParams& params) { setParamsFrom(params); }
-
-  bool getMemoryShapes(const std::vector<cv::dnn::MatShape>& inputs, const int required_outputs,
-                       std::vector<cv::dnn::MatShape>& outputs,
-                       std::vector<cv::dnn::MatShape>& internals) const override {
-    Layer::getMemoryShapes(inputs, required_outputs, outputs, internals);
-    return true;  // may run in place
-  }
-
-  void forward(cv::InputArrayOfArrays inputs, cv::OutputArrayOfArrays outputs, cv::OutputArrayOfArrays) override {
-    forwardElementwise(inputs, outputs, vectorSigmoid);
-  }
-};
-
 }  // namespace
 
 void vectorSigmoid(const float* x, float* y, size_t n) {
@@ -92,7 +76,7 @@ void vectorSigmoid(const float* x, float* y, size_t n) {
 }
 
 cv::Ptr<cv::dnn::Layer> createVectorSigmoidLayer(cv::dnn::LayerParams& params) {
-  return cv::Ptr<cv::dnn::Layer>(new VectorSigmoidLayer(params));
+  return cv::Ptr<cv::dnn::Layer>(new ElementwiseLayer<cv::dnn::Layer, vectorSigmoid>(params));
 }
 
 }  // namespace tkgslam::dynamic

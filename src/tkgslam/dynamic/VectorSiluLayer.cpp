@@ -5,27 +5,16 @@
 
 #include <opencv2/dnn/all_layers.hpp>
 
-#include "tkgslam/dynamic/ElementwiseForward.h"
+#include "tkgslam/dynamic/ElementwiseLayer.h"
 #include "tkgslam/dynamic/VectorSigmoidLayer.h"
 
 namespace tkgslam::dynamic {
 
 namespace {
 
-class VectorSiluLayer : public cv::dnn::ActivationLayer {
+class VectorSiluLayer : public ElementwiseLayer<cv::dnn::ActivationLayer, vectorSilu> {
  public:
-  explicit VectorSiluLayer(cv::dnn::LayerParams& params) { setParamsFrom(params); }
-
-  bool getMemoryShapes(const std::vector<cv::dnn::MatShape>& inputs, const int required_outputs,
-                       std::vector<cv::dnn::MatShape>& outputs,
-                       std::vector<cv::dnn::MatShape>& internals) const override {
-    Layer::getMemoryShapes(inputs, required_outputs, outputs, internals);
-    return true;  // may run in place
-  }
-
-  void forward(cv::InputArrayOfArrays inputs, cv::OutputArrayOfArrays outputs, cv::OutputArrayOfArrays) override {
-    forwardElementwise(inputs, outputs, vectorSilu);
-  }
+  using ElementwiseLayer::ElementwiseLayer;
 
   // Called by a convolution that took this layer as its activation: channels cn0 .. cn1 - 1 of one
   // block of its output, `len` values each, `plane` apart.

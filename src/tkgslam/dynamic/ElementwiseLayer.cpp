@@ -1,4 +1,4 @@
-#include "tkgslam/dynamic/ElementwiseForward.h"
+#include "tkgslam/dynamic/ElementwiseLayer.h"
 
 #include <algorithm>
 #include <vector>
