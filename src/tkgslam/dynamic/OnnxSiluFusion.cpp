@@ -1,5 +1,6 @@
 #include "tkgslam/dynamic/OnnxSiluFusion.h"
 
+#include <deque>
 #include <map>
 #include <optional>
 #include <set>
@@ -51,8 +52,20 @@ bool isStandardOp(const Node& node, std::string_view op_type) {
   return node.op_type == op_type && (node.domain.empty() || node.domain == "ai.onnx") && !node.has_attributes;
 }
 
+// A rewritten graph as the pieces it is made of, in order: views into the model's bytes (most of
+// it: the weights are not copied) and the fused nodes, which `owned` holds.
+struct GraphPieces {
+  std::vector<std::string_view> pieces;
+  std::deque<std::string> owned;  // a deque: its strings stay where they are as it grows
+  size_t size = 0;
+  void add(std::string_view piece) {
+    pieces.push_back(piece);
+    size += piece.size();
+  }
+};
+
 // The rewritten graph, or nothing if it cannot be read or has nothing to fuse.
-std::optional<std::string> fuseInGraph(std::string_view graph, const std::string& op_type, int& fused) {
+std::optional<GraphPieces> fuseInGraph(std::string_view graph, const std::string& op_type, int& fused) {
   std::vector<WireField> fields;
   if (!splitWireFields(graph, fields)) return std::nullopt;
   std::vector<Node> nodes;
@@ -100,19 +113,18 @@ std::optional<std::string> fuseInGraph(std::string_view graph, const std::string
 
   std::set<size_t> dropped;
   for (const auto& [sigmoid, mul] : mul_of) dropped.insert(mul);
-  std::string out;
-  out.reserve(graph.size());
+  GraphPieces out;
   size_t node_index = 0;
   for (const WireField& field : fields) {
     if (field.number != kGraphNode) {
-      out.append(field.encoded);
+      out.add(field.encoded);
       continue;
     }
     const size_t i = node_index++;
     if (dropped.count(i)) continue;
     const auto fuse = mul_of.find(i);
     if (fuse == mul_of.end()) {
-      out.append(field.encoded);
+      out.add(field.encoded);
       continue;
     }
     const Node& sigmoid = nodes[i];
@@ -121,7 +133,8 @@ std::optional<std::string> fuseInGraph(std::string_view graph, const std::string
     appendLengthDelimited(node, kNodeOutput, nodes[fuse->second].outputs[0]);
     if (!sigmoid.name.empty()) appendLengthDelimited(node, kNodeName, sigmoid.name);
     appendLengthDelimited(node, kNodeOpType, op_type);
-    appendLengthDelimited(out, kGraphNode, node);
+    appendLengthDelimited(out.owned.emplace_back(), kGraphNode, node);
+    out.add(out.owned.back());
   }
   fused = int(mul_of.size());
   return out;
@@ -134,7 +147,7 @@ SiluFusion fuseSiluNodes(const std::vector<uchar>& model, const std::string& op_
   const std::string_view bytes(reinterpret_cast<const char*>(model.data()), model.size());
   std::vector<WireField> fields;
   int fused = 0;
-  std::optional<std::string> graph;
+  std::optional<GraphPieces> graph;
   if (splitWireFields(bytes, fields)) {
     for (const WireField& field : fields) {
       // A model has one graph; with more (malformed) or none, leave it to OpenCV.
@@ -151,16 +164,21 @@ SiluFusion fuseSiluNodes(const std::vector<uchar>& model, const std::string& op_
     result.model = model;
     return result;
   }
-  std::string out;
+  // Written once, straight into the result (the model is mostly weights: ~8 MB for YOLOv5n).
+  std::vector<uchar>& out = result.model;
   out.reserve(model.size());
+  const auto append = [&out](std::string_view bytes) { out.insert(out.end(), bytes.begin(), bytes.end()); };
   for (const WireField& field : fields) {
-    if (field.number == kModelGraph) {
-      appendLengthDelimited(out, kModelGraph, *graph);
-    } else {
-      out.append(field.encoded);
+    if (field.number != kModelGraph) {
+      append(field.encoded);
+      continue;
     }
+    std::string key_and_length;
+    appendVarint(key_and_length, (std::uint64_t(kModelGraph) << 3) | WireField::kLengthDelimited);
+    appendVarint(key_and_length, graph->size);
+    append(key_and_length);
+    for (std::string_view piece : graph->pieces) append(piece);
   }
-  result.model.assign(out.begin(), out.end());
   result.fused = fused;
   return result;
 }
