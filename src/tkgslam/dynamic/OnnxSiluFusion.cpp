@@ -25,7 +25,6 @@ constexpr std::uint32_t kNodeAttribute = 5;
 constexpr std::uint32_t kNodeDomain = 7;
 
 struct Node {
-  std::string_view encoded;
   std::vector<std::string_view> inputs, outputs;
   std::string_view name, op_type, domain;
   bool has_attributes = false;
@@ -35,7 +34,6 @@ std::optional<Node> parseNode(const WireField& field) {
   std::vector<WireField> fields;
   if (field.type != WireField::kLengthDelimited || !splitWireFields(field.payload, fields)) return std::nullopt;
   Node node;
-  node.encoded = field.encoded;
   for (const WireField& f : fields) {
     const bool text = f.type == WireField::kLengthDelimited;
     if (f.number == kNodeInput && text) node.inputs.push_back(f.payload);
@@ -53,7 +51,7 @@ bool isStandardOp(const Node& node, std::string_view op_type) {
 }
 
 // A rewritten graph as the pieces it is made of, in order: views into the model's bytes (most of
-// it: the weights are not copied) and the fused nodes, which `owned` holds.
+// it: the weights are not copied) and the fused nodes, which `owned` holds (one per pair fused).
 struct GraphPieces {
   std::vector<std::string_view> pieces;
   std::deque<std::string> owned;  // a deque: its strings stay where they are as it grows
@@ -65,7 +63,7 @@ struct GraphPieces {
 };
 
 // The rewritten graph, or nothing if it cannot be read or has nothing to fuse.
-std::optional<GraphPieces> fuseInGraph(std::string_view graph, const std::string& op_type, int& fused) {
+std::optional<GraphPieces> fuseInGraph(std::string_view graph, const std::string& op_type) {
   std::vector<WireField> fields;
   if (!splitWireFields(graph, fields)) return std::nullopt;
   std::vector<Node> nodes;
@@ -136,7 +134,6 @@ std::optional<GraphPieces> fuseInGraph(std::string_view graph, const std::string
     appendLengthDelimited(out.owned.emplace_back(), kGraphNode, node);
     out.add(out.owned.back());
   }
-  fused = int(mul_of.size());
   return out;
 }
 
@@ -146,13 +143,12 @@ SiluFusion fuseSiluNodes(const std::vector<uchar>& model, const std::string& op_
   SiluFusion result;
   const std::string_view bytes(reinterpret_cast<const char*>(model.data()), model.size());
   std::vector<WireField> fields;
-  int fused = 0;
   std::optional<GraphPieces> graph;
   if (splitWireFields(bytes, fields)) {
     for (const WireField& field : fields) {
       // A model has one graph; with more (malformed) or none, leave it to OpenCV.
       if (field.number == kModelGraph && field.type == WireField::kLengthDelimited && !graph) {
-        graph = fuseInGraph(field.payload, op_type, fused);
+        graph = fuseInGraph(field.payload, op_type);
         if (!graph) break;
       } else if (field.number == kModelGraph) {
         graph.reset();
@@ -179,7 +175,7 @@ SiluFusion fuseSiluNodes(const std::vector<uchar>& model, const std::string& op_
     append(key_and_length);
     for (std::string_view piece : graph->pieces) append(piece);
   }
-  result.fused = fused;
+  result.fused = int(graph->owned.size());
   return result;
 }
 
