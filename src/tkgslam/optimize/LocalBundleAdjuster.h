@@ -1,6 +1,8 @@
 #pragma once
-// Local bundle adjustment over a window of keyframes and the points they see (Ceres). The problem
-// is a plain copy of the map state, so it can be solved without holding the map lock.
+// Local bundle adjustment over a window of keyframes and the points they see: our dense-Schur
+// Levenberg-Marquardt (DenseSchurSolver.h) for the covisible windows local mapping builds, Ceres'
+// sparse Schur for long sparse ones. The problem is a plain copy of the map state, so it can be
+// solved without holding the map lock.
 #include <vector>
 
 #include "tkgslam/common/Pose.h"
@@ -28,14 +30,15 @@ struct BundleOptions {
   int iterations_second = 10; ///< pass after removing outliers
   double chi2_mono = 5.991;
   double chi2_stereo = 7.815;
-  int threads = 1;
+  int threads = 1;  ///< Ceres' threads on the sparse path (the dense one runs on the caller's thread)
 };
 
 /// Whether the reduced camera system (the free poses after eliminating the points) is solved as a
 /// dense matrix: always for up to 40 free poses; for up to 400 when eliminating the points is the
 /// larger cost (sum over points of the squared number of free poses seeing each >= n^3 / 10).
 /// ORB-SLAM-style windows are covisible by construction, so most reduced systems are nearly full;
-/// there dense Schur is about twice as fast as CHOLMOD's sparse one.
+/// there Ceres' dense Schur was about twice as fast as its sparse one (CHOLMOD), the thresholds'
+/// fit; our dense solver is 3-4 x faster again, so they are conservative now.
 bool prefersDenseSchur(const BundleProblem& problem);
 
 /// Solves in place; returns per-observation outlier flags (chi-square test after the first pass

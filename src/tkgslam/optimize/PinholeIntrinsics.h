@@ -33,4 +33,11 @@ inline Mat3 projectStereoJacobian(const PinholeIntrinsics& K, const Vec3& p_c, b
   return J;
 }
 
+/// The bundle adjustment's residual of an observation (uv, u_right in pixels; u_right < 0: no depth,
+/// third row 0) of the camera point p_c: s * (observed - predicted), s = sqrt(information).
+inline Vec3 stereoResidual(const PinholeIntrinsics& K, const Vec2& uv, double u_right, double s, const Vec3& p_c) {
+  const Vec3 predicted = projectStereo(K, p_c);
+  return {s * (uv.x() - predicted[0]), s * (uv.y() - predicted[1]), u_right >= 0 ? s * (u_right - predicted[2]) : 0.0};
+}
+
 }  // namespace tkgslam::optimize

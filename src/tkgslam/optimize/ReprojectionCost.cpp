@@ -12,10 +12,8 @@ ReprojectionCost::ReprojectionCost(const BundleObservation& o, const PinholeIntr
     : uv_(o.uv), u_right_(o.u_right), K_(K), s_(std::sqrt(o.information)) {}
 
 void ReprojectionCost::residualAt(const Vec3& pc, double* r) const {
-  const Vec3 predicted = projectStereo(K_, pc);
-  r[0] = s_ * (uv_.x() - predicted[0]);
-  r[1] = s_ * (uv_.y() - predicted[1]);
-  r[2] = u_right_ >= 0 ? s_ * (u_right_ - predicted[2]) : 0.0;
+  Eigen::Map<Vec3> residual(r);
+  residual = stereoResidual(K_, uv_, u_right_, s_, pc);
 }
 
 bool ReprojectionCost::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const {
