@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "tkgslam/match/NearestDescriptors.h"
+
 namespace tkgslam::match {
 
 using data::descriptorDistance;
@@ -157,19 +159,9 @@ int OrbMatcher::searchByDescriptors(const data::KeyFrame& kf, const data::Frame&
   for (size_t i = 0; i < kf.map_points.size(); ++i) {
     const auto& mp = kf.map_points[i];
     if (!mp || mp->bad) continue;
-    const uint8_t* d_kf = kf.features->descriptors.ptr<uint8_t>(int(i));
-    int best = 256, best2 = 256, best_j = -1;
-    for (int j = 0; j < cur.size(); ++j) {
-      if (F.excluded[j]) continue;
-      const int d = descriptorDistance(d_kf, F.descriptors.ptr<uint8_t>(j));
-      if (d < best) {
-        best2 = best;
-        best = d;
-        best_j = j;
-      } else if (d < best2) {
-        best2 = d;
-      }
-    }
+    const auto [best, best2, best_j] = nearestTwoDescriptors(kf.features->descriptors.ptr<uint8_t>(int(i)),
+                                                             F.descriptors.data, F.descriptors.step, cur.size(),
+                                                             F.excluded.data());
     if (best_j < 0 || best > kThLow || best >= 0.7 * best2) continue;
     if (best >= best_for[best_j]) continue;  // keep the better of two claims on one keypoint
     best_for[best_j] = best;
