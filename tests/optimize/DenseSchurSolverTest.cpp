@@ -23,7 +23,9 @@ double solveWithCeres(optimize::BundleProblem& pb, const optimize::PinholeIntrin
   }
   ceres::Problem problem;
   for (const auto& o : pb.observations) {
-    ceres::LossFunction* loss = robust ? new ceres::HuberLoss(std::sqrt(o.u_right >= 0 ? 7.815 : 5.991)) : nullptr;
+    const optimize::BundleOptions chi2;  // local mapping's thresholds
+    ceres::LossFunction* loss =
+        robust ? new ceres::HuberLoss(std::sqrt(o.u_right >= 0 ? chi2.chi2_stereo : chi2.chi2_mono)) : nullptr;
     problem.AddResidualBlock(new optimize::ReprojectionCost(o, K), loss, q[size_t(o.camera)].coeffs().data(),
                              t[size_t(o.camera)].data(), pb.points[size_t(o.point)].data());
   }
@@ -50,8 +52,9 @@ optimize::DenseSchurSettings settings(int iterations, bool robust) {
   optimize::DenseSchurSettings s;
   s.iterations = iterations;
   s.robust = robust;
-  s.huber_mono = std::sqrt(5.991);
-  s.huber_stereo = std::sqrt(7.815);
+  const optimize::BundleOptions chi2;  // local mapping's thresholds
+  s.huber_mono = std::sqrt(chi2.chi2_mono);
+  s.huber_stereo = std::sqrt(chi2.chi2_stereo);
   return s;
 }
 

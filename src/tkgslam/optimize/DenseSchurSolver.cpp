@@ -170,16 +170,20 @@ class Solver {
     S_.setZero(6 * n, 6 * n);
     Eigen::VectorXd rhs(6 * n);
     double damping = 0;  // delta^T D delta / radius, for the model's decrease
+    Dc_.resize(size_t(n));
     for (long i = 0; i < n; ++i) {
+      Dc_[size_t(i)] = clampedDiagonal6(U_[size_t(i)]);
       S_.block<6, 6>(6 * i, 6 * i) = U_[size_t(i)];
-      S_.block<6, 6>(6 * i, 6 * i).diagonal() += clampedDiagonal6(U_[size_t(i)]) / radius;
+      S_.block<6, 6>(6 * i, 6 * i).diagonal() += Dc_[size_t(i)] / radius;
       rhs.segment<6>(6 * i) = -gc_[size_t(i)];
     }
     Vinv_.resize(points_.size());
+    Dp_.resize(points_.size());
     std::vector<Mat36> Y;  // Vinv W^T per free observation of the point
     for (size_t j = 0; j < points_.size(); ++j) {
+      Dp_[j] = clampedDiagonal3(V_[j]);
       Mat3 V = V_[j];
-      V.diagonal() += clampedDiagonal3(V_[j]) / radius;
+      V.diagonal() += Dp_[j] / radius;
       const Eigen::LLT<Mat3> llt(V);
       if (llt.info() != Eigen::Success) return false;
       Vinv_[j] = llt.solve(Mat3::Identity());
@@ -214,7 +218,7 @@ class Solver {
     for (long i = 0; i < n; ++i) {
       dc_[size_t(i)] = dc.segment<6>(6 * i);
       gradient_step += gc_[size_t(i)].dot(dc_[size_t(i)]);
-      damping += dc_[size_t(i)].cwiseAbs2().dot(clampedDiagonal6(U_[size_t(i)])) / radius;
+      damping += dc_[size_t(i)].cwiseAbs2().dot(Dc_[size_t(i)]) / radius;
     }
     dp_.resize(points_.size());
     for (size_t j = 0; j < points_.size(); ++j) {
@@ -225,7 +229,7 @@ class Solver {
       }
       dp_[j] = Vinv_[j] * b;
       gradient_step += gp_[j].dot(dp_[j]);
-      damping += dp_[j].cwiseAbs2().dot(clampedDiagonal3(V_[j])) / radius;
+      damping += dp_[j].cwiseAbs2().dot(Dp_[j]) / radius;
     }
     // 1/2 (|r|^2 - |r + J delta|^2) with (J^T J + D / radius) delta = -g.
     *model_change = 0.5 * (-gradient_step + damping);
@@ -269,6 +273,8 @@ class Solver {
   std::vector<Vec3> gp_;
   std::vector<Mat63> W_;  ///< per residual (unused for fixed cameras)
   std::vector<Mat3> Vinv_;
+  std::vector<Vec6> Dc_;  ///< the step's damping diagonals (clamped diag of U, V), before / radius
+  std::vector<Vec3> Dp_;
   std::vector<Vec6> dc_;
   std::vector<Vec3> dp_;
   Eigen::MatrixXd S_;
