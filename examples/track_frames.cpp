@@ -12,6 +12,8 @@
 #include <cstdlib>
 #include <string>
 
+#include <malloc.h>
+
 #include <opencv2/imgcodecs.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -38,6 +40,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: %s CONFIG SEQUENCE [MAX_FRAMES]\n", argv[0]);
     return 2;
   }
+  // Fixed malloc thresholds, as the tkgslam CLI sets them: glibc's adaptive ones had each frame's
+  // images refaulted from the kernel (README, "the library in your own project").
+  mallopt(M_MMAP_THRESHOLD, 4 << 20);
+  mallopt(M_TRIM_THRESHOLD, 64 << 20);
   // The library logs through spdlog (to stdout by default): to stderr here, so stdout is the poses.
   spdlog::set_default_logger(spdlog::stderr_color_mt("tkgslam"));
   try {
