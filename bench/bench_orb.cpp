@@ -1,4 +1,4 @@
-// Benchmarks of the per-frame hot path on real fr1_xyz images: ORB extraction (640x480, 1000
+// Benchmarks of the per-frame hot path on real fr1_xyz images: reading a frame, ORB extraction (640x480, 1000
 // features, 8 levels), frame feature construction, the blur measure, the input check, and descriptor matching
 // between two frames; of local bundle adjustment on a synthetic window of its usual size; and of
 // place recognition (vocabulary training and a keyframe-index query over 50 keyframes); and of
@@ -50,6 +50,16 @@ Fixture& fixture() {
   static Fixture f;
   return f;
 }
+
+// Reading one frame from disk: PNG decoding of colour and 16-bit depth, grey conversion, depth to metres.
+void BM_FrameLoad(benchmark::State& state) {
+  auto& f = fixture();
+  if (!f.ok) return state.SkipWithError("../shared/datasets/rgbd_dataset_freiburg1_xyz not found");
+  const io::TumDataset ds(f.seq.string());
+  int i = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(ds.load(100 + (i++ % 50)));
+}
+BENCHMARK(BM_FrameLoad)->Unit(benchmark::kMillisecond);
 
 void BM_OrbExtraction(benchmark::State& state) {
   auto& f = fixture();

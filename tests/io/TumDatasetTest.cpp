@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "TestSupport.h"
+#include "TinyTumSequence.h"
 #include "tkgslam/common/Error.h"
 #include "tkgslam/io/TumDataset.h"
 
@@ -14,27 +15,11 @@ namespace {
 
 using test::TempDir;
 using test::writeText;
-
-// A tiny valid TUM-layout sequence: 3 frames, JPEG colour, 16-bit depth of 1 m.
-void makeDataset(const std::filesystem::path& dir, int w = 64, int h = 48) {
-  std::filesystem::create_directories(dir / "rgb");
-  std::filesystem::create_directories(dir / "depth");
-  std::string rgb = "# color images\n# timestamp filename\n", depth = "# depth\n";
-  for (int i = 0; i < 3; ++i) {
-    const std::string t = std::to_string(100 + i) + ".000000";
-    const std::string td = std::to_string(100 + i) + ".010000";
-    cv::imwrite((dir / "rgb" / (t + ".jpg")).string(), cv::Mat(h, w, CV_8UC3, cv::Scalar(10, 20, 30 + i)));
-    cv::imwrite((dir / "depth" / (td + ".png")).string(), cv::Mat(h, w, CV_16UC1, cv::Scalar(5000)));
-    rgb += t + " rgb/" + t + ".jpg\n";
-    depth += td + " depth/" + td + ".png\n";
-  }
-  writeText(dir / "rgb.txt", rgb);
-  writeText(dir / "depth.txt", depth);
-}
+using test::writeTinyTumSequence;
 
 TEST(TumDataset, ReadsAssociatesAndConvertsDepthToMetres) {
   TempDir tmp;
-  makeDataset(tmp.path());
+  writeTinyTumSequence(tmp.path());
   io::TumDataset ds(tmp.path().string());
   ASSERT_EQ(ds.size(), 3);
   EXPECT_DOUBLE_EQ(ds.timestamp(1), 101.0);
@@ -49,7 +34,7 @@ TEST(TumDataset, ReadsAssociatesAndConvertsDepthToMetres) {
 
 TEST(TumDataset, LoopsRepeatTheSequenceWithIncreasingStamps) {
   TempDir tmp;
-  makeDataset(tmp.path());
+  writeTinyTumSequence(tmp.path());
   io::TumDatasetOptions o;
   o.loops = 3;
   io::TumDataset ds(tmp.path().string(), o);
@@ -69,7 +54,7 @@ TEST(TumDataset, MissingFolder) {
 
 TEST(TumDataset, MissingList) {
   TempDir tmp;
-  makeDataset(tmp.path());
+  writeTinyTumSequence(tmp.path());
   std::filesystem::remove(tmp / "depth.txt");
   const auto msg = test::inputErrorOf([&] { io::TumDataset(tmp.path().string()); });
   EXPECT_NE(msg.find("depth.txt"), std::string::npos) << msg;
@@ -77,7 +62,7 @@ TEST(TumDataset, MissingList) {
 
 TEST(TumDataset, ListedImageAbsent) {
   TempDir tmp;
-  makeDataset(tmp.path());
+  writeTinyTumSequence(tmp.path());
   std::filesystem::remove(tmp.path() / "rgb" / "101.000000.jpg");
   const auto msg = test::inputErrorOf([&] { io::TumDataset(tmp.path().string()); });
   EXPECT_NE(msg.find("101.000000.jpg"), std::string::npos) << msg;
@@ -85,7 +70,7 @@ TEST(TumDataset, ListedImageAbsent) {
 
 TEST(TumDataset, UnreadableImageNamesTheFile) {
   TempDir tmp;
-  makeDataset(tmp.path());
+  writeTinyTumSequence(tmp.path());
   writeText(tmp.path() / "rgb" / "101.000000.jpg", "this is not a jpeg");
   io::TumDataset ds(tmp.path().string());
   EXPECT_NO_THROW(ds.load(0));
@@ -96,7 +81,7 @@ TEST(TumDataset, UnreadableImageNamesTheFile) {
 
 TEST(TumDataset, WrongDepthType) {
   TempDir tmp;
-  makeDataset(tmp.path());
+  writeTinyTumSequence(tmp.path());
   cv::imwrite((tmp.path() / "depth" / "100.010000.png").string(), cv::Mat(48, 64, CV_8UC1, cv::Scalar(3)));
   io::TumDataset ds(tmp.path().string());
   const auto msg = test::inputErrorOf([&] { ds.load(0); });
@@ -107,7 +92,7 @@ TEST(TumDataset, WrongDepthType) {
 
 TEST(TumDataset, WrongImageSize) {
   TempDir tmp;
-  makeDataset(tmp.path());
+  writeTinyTumSequence(tmp.path());
   io::TumDatasetOptions o;
   o.expected_width = 640;
   o.expected_height = 480;
@@ -130,7 +115,7 @@ TEST(TumDataset, WrongImageSize) {
 
 TEST(TumDataset, NonMonotonicTimestamps) {
   TempDir tmp;
-  makeDataset(tmp.path());
+  writeTinyTumSequence(tmp.path());
   writeText(tmp / "rgb.txt", "101.0 rgb/101.000000.jpg\n100.0 rgb/100.000000.jpg\n");
   const auto msg = test::inputErrorOf([&] { io::TumDataset(tmp.path().string()); });
   EXPECT_NE(msg.find("rgb.txt:2"), std::string::npos) << msg;
@@ -139,7 +124,7 @@ TEST(TumDataset, NonMonotonicTimestamps) {
 
 TEST(TumDataset, MalformedTimestamp) {
   TempDir tmp;
-  makeDataset(tmp.path());
+  writeTinyTumSequence(tmp.path());
   writeText(tmp / "depth.txt", "# header\n100.01 depth/100.010000.png\n1O1.01 depth/101.010000.png\n");
   const auto msg = test::inputErrorOf([&] { io::TumDataset(tmp.path().string()); });
   EXPECT_NE(msg.find("depth.txt:3: malformed timestamp '1O1.01'"), std::string::npos) << msg;
@@ -147,7 +132,7 @@ TEST(TumDataset, MalformedTimestamp) {
 
 TEST(TumDataset, ListsWithWindowsLineEndsAndAByteOrderMarkAreRead) {
   TempDir tmp;
-  makeDataset(tmp.path());
+  writeTinyTumSequence(tmp.path());
   writeText(tmp / "rgb.txt",
             "\xEF\xBB\xBF# color images\r\n100.000000 rgb/100.000000.jpg\r\n101.000000 rgb/101.000000.jpg\r\n");
   writeText(tmp / "depth.txt", "\xEF\xBB\xBF" "100.010000 depth/100.010000.png\r\n101.010000 depth/101.010000.png\r\n");
@@ -159,14 +144,14 @@ TEST(TumDataset, ListsWithWindowsLineEndsAndAByteOrderMarkAreRead) {
 
 TEST(TumDataset, MissingFileName) {
   TempDir tmp;
-  makeDataset(tmp.path());
+  writeTinyTumSequence(tmp.path());
   writeText(tmp / "rgb.txt", "100.0\n");
   EXPECT_NE(test::inputErrorOf([&] { io::TumDataset(tmp.path().string()); }).find("rgb.txt:1"), std::string::npos);
 }
 
 TEST(TumDataset, EmptyAssociation) {
   TempDir tmp;
-  makeDataset(tmp.path());
+  writeTinyTumSequence(tmp.path());
   writeText(tmp / "depth.txt", "200.0 depth/100.010000.png\n");
   const auto msg = test::inputErrorOf([&] { io::TumDataset(tmp.path().string()); });
   EXPECT_NE(msg.find("no RGB image"), std::string::npos) << msg;
@@ -188,7 +173,7 @@ std::string associationText(const io::TumDataset& ds, bool depth_first) {
 
 TEST(TumDataset, AnAssociationFileGivesTheListsPairsInEitherColumnOrder) {
   TempDir tmp;
-  makeDataset(tmp.path());
+  writeTinyTumSequence(tmp.path());
   const io::TumDataset lists(tmp.path().string());
   EXPECT_TRUE(lists.associationFile().empty());
   for (const bool depth_first : {false, true}) {
@@ -211,7 +196,7 @@ TEST(TumDataset, AnAssociationFileGivesTheListsPairsInEitherColumnOrder) {
 
 TEST(TumDataset, AssociationFileErrorsNameTheFileAndLine) {
   TempDir tmp;
-  makeDataset(tmp.path());
+  writeTinyTumSequence(tmp.path());
   const auto open = [&](const std::string& text) {
     writeText(tmp / "pairs.txt", text);
     io::TumDatasetOptions o;
