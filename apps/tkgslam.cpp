@@ -6,26 +6,19 @@
 #include <map>
 #include <string>
 
-#include <malloc.h>
-
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
 #include "Commands.h"
 #include "tkgslam/common/Error.h"
+#include "tkgslam/common/MallocTuning.h"
 
 int main(int argc, char** argv) {
   // Past a file-size limit (ulimit -f) a write then fails with EFBIG and is reported like a full
   // disk, instead of the signal ending the process with half-written outputs.
   std::signal(SIGXFSZ, SIG_IGN);
-  // Fixed glibc malloc thresholds. With the dynamic ones the mmap threshold follows the largest
-  // block freed so far; since local BA's own solver (session 53) the per-frame images (1.2 MB float
-  // depth, pyramid levels) were mapped and unmapped, or the heap trimmed and refaulted, every
-  // frame: 425 000 page faults on fr1_xyz and ORB extraction 12 instead of 7-8 ms per frame.
-  // Blocks under 4 MB now come from the heap, which keeps up to 64 MB free before trimming; the
-  // detector's larger blobs stay mapped (32 MB: 30 MB more resident memory with the detector).
-  mallopt(M_MMAP_THRESHOLD, 4 << 20);
-  mallopt(M_TRIM_THRESHOLD, 64 << 20);
+  // Images of a few MB every frame: without this, their pages were faulted in again each frame.
+  tkgslam::common::tuneMallocForFrames();
   CLI::App app{"tkgslam - RGB-D SLAM that keeps working when people fill the view"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("tkgslam ") + TKGSLAM_VERSION);

@@ -8,6 +8,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "tkgslam/common/MallocTuning.h"
 #include "tkgslam/data/Frame.h"
 #include "tkgslam/data/FrameFeatures.h"
 #include "tkgslam/feature/ImageSharpness.h"
@@ -239,4 +240,13 @@ BENCHMARK(BM_LoopDetection)
 
 }  // namespace
 
-BENCHMARK_MAIN();
+// The CLI's malloc settings: without them the per-frame image buffers are faulted in again on
+// every iteration (reading a frame 14.6 instead of 4.4 ms, the blur measure 8.1 instead of 0.19 ms).
+int main(int argc, char** argv) {
+  tkgslam::common::tuneMallocForFrames();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -12,13 +12,12 @@
 #include <cstdlib>
 #include <string>
 
-#include <malloc.h>
-
 #include <opencv2/imgcodecs.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include "tkgslam/common/Error.h"
+#include "tkgslam/common/MallocTuning.h"
 #include "tkgslam/io/ConfigFile.h"
 #include "tkgslam/io/TrajectoryFile.h"
 #include "tkgslam/io/TumDataset.h"
@@ -40,10 +39,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: %s CONFIG SEQUENCE [MAX_FRAMES]\n", argv[0]);
     return 2;
   }
-  // Fixed malloc thresholds, as the tkgslam CLI sets them: glibc's adaptive ones had each frame's
-  // images refaulted from the kernel (README, "the library in your own project").
-  mallopt(M_MMAP_THRESHOLD, 4 << 20);
-  mallopt(M_TRIM_THRESHOLD, 64 << 20);
+  // glibc's malloc kept from faulting the frames' images in again every frame (as the tkgslam CLI).
+  common::tuneMallocForFrames();
   // The library logs through spdlog (to stdout by default): to stderr here, so stdout is the poses.
   spdlog::set_default_logger(spdlog::stderr_color_mt("tkgslam"));
   try {
