@@ -17,7 +17,6 @@
 #include "tkgslam/common/ResidentMemory.h"
 #include "tkgslam/eval/Ate.h"
 #include "tkgslam/io/ConfigFile.h"
-#include "tkgslam/io/FramePrefetcher.h"
 #include "tkgslam/io/OutputFile.h"
 #include "tkgslam/io/OutputFolder.h"
 #include "tkgslam/io/TrajectoryFile.h"
@@ -311,18 +310,17 @@ constexpr int kUnreadableStart = 20;
 /// Skipped frames warned about on the console; frame_log.txt lists them all.
 constexpr int kSkipWarnings = 10;
 
-/// Takes the images of a frame read ahead. A frame that could not be read is logged and skipped
-/// (returns false): one bad frame in a run is not fatal.
-bool readFrame(io::FramePrefetcher::Frame frame, const io::TumDataset& dataset, FrameEventLog& events,
-               io::RgbdImages& images) {
+/// Reads frame `i` into `images`. A frame that cannot be read is logged and skipped (returns false):
+/// one bad frame in a run is not fatal.
+bool readFrame(const io::TumDataset& dataset, int i, FrameEventLog& events, io::RgbdImages& images) {
   try {
-    images = frame.take();
+    images = dataset.load(i);
     return true;
   } catch (const InputError& e) {
     const int skipped = events.counts().skipped;
-    if (skipped < kSkipWarnings) spdlog::warn("frame {} skipped: {}", frame.index, e.what());
+    if (skipped < kSkipWarnings) spdlog::warn("frame {} skipped: {}", i, e.what());
     if (skipped == kSkipWarnings) spdlog::warn("more frames skipped: frame_log.txt lists them all");
-    events.addSkipped(dataset.timestamp(frame.index), e.what());
+    events.addSkipped(dataset.timestamp(i), e.what());
     return false;
   }
 }
@@ -358,11 +356,9 @@ int runSlam(const RunOptions& o) {
   const auto previous_int = std::signal(SIGINT, onInterrupt);
   const auto previous_term = std::signal(SIGTERM, onInterrupt);
   const auto started = std::chrono::steady_clock::now();
-  // The next frames are decoded on another thread while this one tracks (stopped at the loop's end).
-  auto reader = std::make_unique<io::FramePrefetcher>(dataset, first, end);
   for (int i = first; i < end && !g_interrupted; ++i) {
     io::RgbdImages images;
-    if (!readFrame(*reader->next(), dataset, events, images)) {
+    if (!readFrame(dataset, i, events, images)) {
       // A whole sequence in a format load() does not take fails frame by frame: stop, not after all of it.
       if (processed == 0 && events.counts().skipped == kUnreadableStart && i + 1 < end) {
         stopped_early = true;
@@ -388,7 +384,6 @@ int runSlam(const RunOptions& o) {
                    slam.mapPointCount(), slam.timing().mean("total"), residentMemoryMiB(), left.c_str());
     }
   }
-  reader.reset();
   std::signal(SIGINT, previous_int);
   std::signal(SIGTERM, previous_term);
   if (g_interrupted) {
