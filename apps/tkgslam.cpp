@@ -19,6 +19,9 @@ int main(int argc, char** argv) {
   std::signal(SIGXFSZ, SIG_IGN);
   // Images of a few MB every frame: without this, their pages were faulted in again each frame.
   tkgslam::common::tuneMallocForFrames();
+  // Line-buffered even into a pipe or file (`| tee run.log`): the few summary lines then interleave
+  // with the progress on stderr in the order they happen, not all at exit.
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   CLI::App app{"tkgslam - RGB-D SLAM that keeps working when people fill the view"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("tkgslam ") + TKGSLAM_VERSION);

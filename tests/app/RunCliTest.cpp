@@ -115,6 +115,26 @@ TEST(RunCli, ARunIntoAnEarlierRunsFolderReplacesAllItsOutputs) {
   EXPECT_EQ(test::readFile(tmp / "out" / "report.html").find("Dynamic objects"), std::string::npos);
 }
 
+// Into a file or pipe (`| tee run.log`) the summary on stdout and the progress on stderr come out
+// in the order they happen: the run's header first, its result after the last progress line.
+TEST(RunCli, TheSummaryAndTheProgressKeepTheirOrderInOneLog) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  std::string out;
+  ASSERT_EQ(test::runCli("run --deterministic --max-frames 50 -c " + (test::sourceDir() / "configs" / "tum_fr1.yaml").string() +
+                             " -d " + test::fr1xyz().string() + " -o " + (tmp / "out").string(),
+                         &out),
+            0)
+      << out;
+  const auto header = out.find("tkgslam run: 50 frames"), progress = out.find("frame   50/50"),
+             result = out.find("frames 50, tracked");
+  ASSERT_NE(header, std::string::npos) << out;
+  ASSERT_NE(progress, std::string::npos) << out;
+  ASSERT_NE(result, std::string::npos) << out;
+  EXPECT_LT(header, progress) << out;
+  EXPECT_LT(progress, result) << out;
+}
+
 // A config copied away from the repository no longer finds the model by its relative path;
 // --model gives it (an installed tkgslam has no ../shared beside its configs).
 TEST(RunCli, ModelOverridesTheConfigsModel) {
