@@ -61,6 +61,10 @@ TEST(LocalBundleAdjuster, DenseSchurForCovisibleWindowsSparseForLongChains) {
   // A chain of 200 in which each point is seen by 21 keyframes: covisible enough.
   EXPECT_TRUE(optimize::prefersDenseSchur(test::makeSyntheticBundle(200, 3000, 0.0, 0.01, 0.01, 10).problem));
   EXPECT_FALSE(optimize::prefersDenseSchur(test::makeSyntheticBundle(403, 20, 0.0, 0.001, 0.0005).problem));
+  // Chains of 200 with each point seen by 13 keyframes (sum k^2 / n^3 = 0.084): dense, a whole BA
+  // 1.0 against 2.0 s sparse; by 7 (0.025): sparse, equal times.
+  EXPECT_TRUE(optimize::prefersDenseSchur(test::makeSyntheticBundle(200, 4000, 0.0, 0.05, 0.02, 6).problem));
+  EXPECT_FALSE(optimize::prefersDenseSchur(test::makeSyntheticBundle(200, 4000, 0.0, 0.05, 0.02, 3).problem));
 }
 
 // The sparse path converges like the dense one: a chain of 150 keyframes, each point seen by 7

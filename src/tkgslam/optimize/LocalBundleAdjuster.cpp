@@ -12,21 +12,21 @@ namespace tkgslam::optimize {
 
 namespace {
 
-// When the reduced camera system is solved as a dense matrix. Eliminating the points costs
-// about the same either way in arithmetic, but the sparse path pays a locked cell lookup per block
-// update (work ~ sum over points of k^2, k = free poses seeing the point), the dense path a
-// Cholesky factorisation of 6n x 6n (~ n^3). Fitted on synthetic windows (linear-solver time of
-// one BA, dense vs sparse; n free poses, share = pairs of them that see a common point):
-//   n =  58, share 1.00, sum k^2 / n^3 = 7.6:   230 vs 540 ms
-//   n =  98, share 0.37, 0.84:                  238 vs 268 ms
-//   n = 248, share 0.30, 0.41:                 1609 vs 2511 ms
-//   n = 198, share 0.16, 0.11:                  361 vs 405 ms
-//   n = 298, share 0.11, 0.042:                 970 vs 477 ms
-//   n = 148, share 0.08, 0.044:                 109 vs  57 ms
-//   n = 198, share 0.06, 0.025:                 216 vs  76 ms
+// When the reduced camera system is solved as a dense matrix (our solveDenseSchur) rather than
+// sparse (Ceres' SPARSE_SCHUR with CHOLMOD). Eliminating the points costs about the same either
+// way in arithmetic, but the sparse path pays a locked cell lookup per block update (work ~ sum
+// over points of k^2, k = free poses seeing the point), the dense path a Cholesky factorisation of
+// 6n x 6n (~ n^3). Refitted in session 54 on synthetic chains (n free poses, 20 points per
+// keyframe, each seen by the keyframes within a band; one whole local BA, fastest of 3, dense vs
+// sparse; sum k^2 / n^3 after n):
+//   n = 296, 0.064:  2469 vs 2900 ms        n = 196, 0.084:  1008 vs 1987 ms
+//   n = 396, 0.036:  7175 vs 6343 ms        n = 296, 0.027:  2924 vs 2712 ms
+//   n = 196, 0.025:   847 vs  820 ms        n = 196, 0.013:   692 vs  495 ms
+//   n = 296, 0.011:  2797 vs 1372 ms        n = 396, 0.010:  7536 vs 2863 ms
+// (With Ceres' own dense Schur, session 50, the crossover was at 0.1.)
 constexpr size_t kAlwaysDenseSchurPoses = 40;
 constexpr size_t kMaxDenseSchurPoses = 400;  // 2400 x 2400 doubles: 46 MB
-constexpr double kMinDenseSchurWorkPerCube = 0.1;
+constexpr double kMinDenseSchurWorkPerCube = 0.05;
 
 // The residual's squared norm: information x squared pixel error (the third row is 0 without depth).
 double chi2Of(const BundleObservation& o, const PinholeIntrinsics& K, const Mat3& R, const Vec3& t,

@@ -34,11 +34,11 @@ struct BundleOptions {
 };
 
 /// Whether the reduced camera system (the free poses after eliminating the points) is solved as a
-/// dense matrix: always for up to 40 free poses; for up to 400 when eliminating the points is the
-/// larger cost (sum over points of the squared number of free poses seeing each >= n^3 / 10).
-/// ORB-SLAM-style windows are covisible by construction, so most reduced systems are nearly full;
-/// there Ceres' dense Schur was about twice as fast as its sparse one (CHOLMOD), the thresholds'
-/// fit; our dense solver is 3-4 x faster again, so they are conservative now.
+/// dense matrix (solveDenseSchur): always for up to 40 free poses; for up to 400 when eliminating
+/// the points is the larger cost (sum over points of the squared number of free poses seeing each
+/// >= n^3 / 20). ORB-SLAM-style windows are covisible by construction, so most reduced systems are
+/// nearly full; only long chains of keyframes that each share points with a few neighbours go to
+/// Ceres' sparse Schur.
 bool prefersDenseSchur(const BundleProblem& problem);
 
 /// Solves in place; returns per-observation outlier flags (chi-square test after the first pass
