@@ -1,5 +1,5 @@
 // Benchmarks of the per-frame hot path on real fr1_xyz images: reading a frame, ORB extraction (640x480, 1000
-// features, 8 levels), frame feature construction, the blur measure, the input check, and descriptor matching
+// features, 8 levels), frame feature construction and its radius queries, the blur measure, the input check, and descriptor matching
 // between two frames; of local bundle adjustment on a synthetic window of its usual size; and of
 // place recognition (vocabulary training and a keyframe-index query over 50 keyframes); and of
 // loop detection for one new keyframe in maps of 50 to 400 keyframes, with and without the word index.
@@ -104,6 +104,22 @@ void BM_FrameFeatures(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_FrameFeatures)->Unit(benchmark::kMillisecond);
+
+// Tracking's radius queries (search by projection): one per keypoint of a real frame, 15 px, on
+// the next frame's features; within one level either side, as the projection search asks.
+void BM_FeaturesInArea(benchmark::State& state) {
+  auto& f = fixture();
+  if (!f.ok) return state.SkipWithError("../shared/datasets/rgbd_dataset_freiburg1_xyz not found");
+  const auto a = data::makeFrameFeatures(f.extractor->extract(f.a.gray), f.a.bgr, f.a.depth_m, *f.camera, f.config.depth);
+  const auto b = data::makeFrameFeatures(f.extractor->extract(f.b.gray), f.b.bgr, f.b.depth_m, *f.camera, f.config.depth);
+  size_t found = 0;
+  for (auto _ : state) {
+    found = 0;
+    for (const auto& kp : a->ideal) found += b->featuresInArea(kp.pt.x, kp.pt.y, 15.f, std::max(kp.octave - 1, 0), kp.octave + 1).size();
+  }
+  state.counters["found_per_query"] = double(found) / double(a->size());
+}
+BENCHMARK(BM_FeaturesInArea)->Unit(benchmark::kMicrosecond);
 
 void BM_ImageSharpness(benchmark::State& state) {
   auto& f = fixture();

@@ -1,43 +1,57 @@
 #include "tkgslam/data/FrameFeatures.h"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 
 namespace tkgslam::data {
 
 std::vector<int> FrameFeatures::featuresInArea(float x, float y, float r, int min_level, int max_level) const {
   std::vector<int> out;
+  if (grid_start.empty()) return out;
   const int c0 = std::max(0, int(std::floor((x - min_x - r) * cell_w_inv)));
   const int c1 = std::min(kGridCols - 1, int(std::ceil((x - min_x + r) * cell_w_inv)));
   const int r0 = std::max(0, int(std::floor((y - min_y - r) * cell_h_inv)));
   const int r1 = std::min(kGridRows - 1, int(std::ceil((y - min_y + r) * cell_h_inv)));
   if (c0 > kGridCols - 1 || c1 < 0 || r0 > kGridRows - 1 || r1 < 0) return out;
+  const int lo = min_level >= 0 ? min_level : std::numeric_limits<int>::min();
+  const int hi = max_level >= 0 ? max_level : std::numeric_limits<int>::max();
   for (int gy = r0; gy <= r1; ++gy) {
-    for (int gx = c0; gx <= c1; ++gx) {
-      for (int i : grid[gy * kGridCols + gx]) {
-        const auto& kp = ideal[i];
-        if (min_level >= 0 && kp.octave < min_level) continue;
-        if (max_level >= 0 && kp.octave > max_level) continue;
-        if (std::abs(kp.pt.x - x) < r && std::abs(kp.pt.y - y) < r) out.push_back(i);
-      }
+    const GridKey* k = grid_keys.data() + grid_start[size_t(gy * kGridCols + c0)];
+    const GridKey* end = grid_keys.data() + grid_start[size_t(gy * kGridCols + c1 + 1)];
+    for (; k != end; ++k) {
+      if (k->octave < lo || k->octave > hi) continue;
+      if (std::abs(k->x - x) < r && std::abs(k->y - y) < r) out.push_back(k->index);
     }
   }
   return out;
 }
 
 void indexFeatures(FrameFeatures& f, const camera::PinholeCamera& camera) {
+  using F = FrameFeatures;
   f.min_x = float(camera.minX());
   f.max_x = float(camera.maxX());
   f.min_y = float(camera.minY());
   f.max_y = float(camera.maxY());
-  f.cell_w_inv = FrameFeatures::kGridCols / (f.max_x - f.min_x);
-  f.cell_h_inv = FrameFeatures::kGridRows / (f.max_y - f.min_y);
-  f.grid.assign(FrameFeatures::kGridCols * FrameFeatures::kGridRows, {});
+  f.cell_w_inv = F::kGridCols / (f.max_x - f.min_x);
+  f.cell_h_inv = F::kGridRows / (f.max_y - f.min_y);
+  // Counting sort by cell: stable, so each cell's keypoints stay by ascending index.
+  std::vector<int> cell(size_t(f.size()), -1);
+  f.grid_start.assign(F::kGridCols * F::kGridRows + 1, 0);
   for (int i = 0; i < f.size(); ++i) {
     const int gx = int(std::floor((f.ideal[i].pt.x - f.min_x) * f.cell_w_inv));
     const int gy = int(std::floor((f.ideal[i].pt.y - f.min_y) * f.cell_h_inv));
-    if (gx < 0 || gy < 0 || gx >= FrameFeatures::kGridCols || gy >= FrameFeatures::kGridRows) continue;
-    f.grid[gy * FrameFeatures::kGridCols + gx].push_back(i);
+    if (gx < 0 || gy < 0 || gx >= F::kGridCols || gy >= F::kGridRows) continue;
+    cell[size_t(i)] = gy * F::kGridCols + gx;
+    ++f.grid_start[size_t(cell[size_t(i)]) + 1];
+  }
+  for (size_t c = 1; c < f.grid_start.size(); ++c) f.grid_start[c] += f.grid_start[c - 1];
+  f.grid_keys.resize(size_t(f.grid_start.back()));
+  std::vector<int> fill(f.grid_start.begin(), f.grid_start.end() - 1);
+  for (int i = 0; i < f.size(); ++i) {
+    if (cell[size_t(i)] < 0) continue;
+    const auto& kp = f.ideal[size_t(i)];
+    f.grid_keys[size_t(fill[size_t(cell[size_t(i)])]++)] = {kp.pt.x, kp.pt.y, kp.octave, i};
   }
 }
 

@@ -28,7 +28,16 @@ struct FrameFeatures {
 
   float min_x = 0, max_x = 0, min_y = 0, max_y = 0;  ///< image bounds in ideal pixels
   float cell_w_inv = 0, cell_h_inv = 0;
-  std::vector<std::vector<int>> grid;  ///< kGridCols * kGridRows cells of keypoint indices
+  /// The grid, kGridCols x kGridRows cells over the bounds, row-major, stored flat: cell c's
+  /// keypoints are grid_keys[grid_start[c], grid_start[c + 1]), by ascending index, with the fields
+  /// a radius query reads (a row of cells is one contiguous run: no pointer chasing per cell).
+  struct GridKey {
+    float x, y;  ///< ideal pixels
+    int octave;
+    int index;   ///< into raw / ideal / ...
+  };
+  std::vector<int> grid_start;  ///< kGridCols * kGridRows + 1 offsets
+  std::vector<GridKey> grid_keys;
 
   int size() const { return static_cast<int>(raw.size()); }
   bool hasDepth(int i) const { return depth[i] > 0; }
