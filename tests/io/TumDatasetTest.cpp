@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include "TestSupport.h"
-#include "TinyTumSequence.h"
 #include "tkgslam/common/Error.h"
 #include "tkgslam/io/TumDataset.h"
 
@@ -15,11 +14,27 @@ namespace {
 
 using test::TempDir;
 using test::writeText;
-using test::writeTinyTumSequence;
+
+// A tiny valid TUM-layout sequence: 3 frames, JPEG colour, 16-bit depth of 1 m.
+void makeDataset(const std::filesystem::path& dir, int w = 64, int h = 48) {
+  std::filesystem::create_directories(dir / "rgb");
+  std::filesystem::create_directories(dir / "depth");
+  std::string rgb = "# color images\n# timestamp filename\n", depth = "# depth\n";
+  for (int i = 0; i < 3; ++i) {
+    const std::string t = std::to_string(100 + i) + ".000000";
+    const std::string td = std::to_string(100 + i) + ".010000";
+    cv::imwrite((dir / "rgb" / (t + ".jpg")).string(), cv::Mat(h, w, CV_8UC3, cv::Scalar(10, 20, 30 + i)));
+    cv::imwrite((dir / "depth" / (td + ".png")).string(), cv::Mat(h, w, CV_16UC1, cv::Scalar(5000)));
+    rgb += t + " rgb/" + t + ".jpg\n";
+    depth += td + " depth/" + td + ".png\n";
+  }
+  writeText(dir / "rgb.txt", rgb);
+  writeText(dir / "depth.txt", depth);
+}
 
 TEST(TumDataset, ReadsAssociatesAndConvertsDepthToMetres) {
   TempDir tmp;
-  writeTinyTumSequence(tmp.path());
+  makeDataset(tmp.path());
   io::TumDataset ds(tmp.path().string());
   ASSERT_EQ(ds.size(), 3);
   EXPECT_DOUBLE_EQ(ds.timestamp(1), 101.0);
@@ -34,7 +49,7 @@ TEST(TumDataset, ReadsAssociatesAndConvertsDepthToMetres) {
 
 TEST(TumDataset, LoopsRepeatTheSequenceWithIncreasingStamps) {
   TempDir tmp;
-  writeTinyTumSequence(tmp.path());
+  makeDataset(tmp.path());
   io::TumDatasetOptions o;
   o.loops = 3;
   io::TumDataset ds(tmp.path().string(), o);
@@ -54,7 +69,7 @@ TEST(TumDataset, MissingFolder) {
 
 TEST(TumDataset, MissingList) {
   TempDir tmp;
-  writeTinyTumSequence(tmp.path());
+  makeDataset(tmp.path());
   std::filesystem::remove(tmp / "depth.txt");
   const auto msg = test::inputErrorOf([&] { io::TumDataset(tmp.path().string()); });
   EXPECT_NE(msg.find("depth.txt"), std::string::npos) << msg;
@@ -62,7 +77,7 @@ TEST(TumDataset, MissingList) {
 
 TEST(TumDataset, ListedImageAbsent) {
   TempDir tmp;
-  writeTinyTumSequence(tmp.path());
+  makeDataset(tmp.path());
   std::filesystem::remove(tmp.path() / "rgb" / "101.000000.jpg");
   const auto msg = test::inputErrorOf([&] { io::TumDataset(tmp.path().string()); });
   EXPECT_NE(msg.find("101.000000.jpg"), std::string::npos) << msg;
@@ -70,7 +85,7 @@ TEST(TumDataset, ListedImageAbsent) {
 
 TEST(TumDataset, UnreadableImageNamesTheFile) {
   TempDir tmp;
-  writeTinyTumSequence(tmp.path());
+  makeDataset(tmp.path());
   writeText(tmp.path() / "rgb" / "101.000000.jpg", "this is not a jpeg");
   io::TumDataset ds(tmp.path().string());
   EXPECT_NO_THROW(ds.load(0));
@@ -81,7 +96,7 @@ TEST(TumDataset, UnreadableImageNamesTheFile) {
 
 TEST(TumDataset, WrongDepthType) {
   TempDir tmp;
-  writeTinyTumSequence(tmp.path());
+  makeDataset(tmp.path());
   cv::imwrite((tmp.path() / "depth" / "100.010000.png").string(), cv::Mat(48, 64, CV_8UC1, cv::Scalar(3)));
   io::TumDataset ds(tmp.path().string());
   const auto msg = test::inputErrorOf([&] { ds.load(0); });
@@ -92,7 +107,7 @@ TEST(TumDataset, WrongDepthType) {
 
 TEST(TumDataset, WrongImageSize) {
   TempDir tmp;
-  writeTinyTumSequence(tmp.path());
+  makeDataset(tmp.path());
   io::TumDatasetOptions o;
   o.expected_width = 640;
   o.expected_height = 480;
@@ -115,7 +130,7 @@ TEST(TumDataset, WrongImageSize) {
 
 TEST(TumDataset, NonMonotonicTimestamps) {
   TempDir tmp;
-  writeTinyTumSequence(tmp.path());
+  makeDataset(tmp.path());
   writeText(tmp / "rgb.txt", "101.0 rgb/101.000000.jpg\n100.0 rgb/100.000000.jpg\n");
   const auto msg = test::inputErrorOf([&] { io::TumDataset(tmp.path().string()); });
   EXPECT_NE(msg.find("rgb.txt:2"), std::string::npos) << msg;
@@ -124,7 +139,7 @@ TEST(TumDataset, NonMonotonicTimestamps) {
 
 TEST(TumDataset, MalformedTimestamp) {
   TempDir tmp;
-  writeTinyTumSequence(tmp.path());
+  makeDataset(tmp.path());
   writeText(tmp / "depth.txt", "# header\n100.01 depth/100.010000.png\n1O1.01 depth/101.010000.png\n");
   const auto msg = test::inputErrorOf([&] { io::TumDataset(tmp.path().string()); });
   EXPECT_NE(msg.find("depth.txt:3: malformed timestamp '1O1.01'"), std::string::npos) << msg;
@@ -132,7 +147,7 @@ TEST(TumDataset, MalformedTimestamp) {
 
 TEST(TumDataset, ListsWithWindowsLineEndsAndAByteOrderMarkAreRead) {
   TempDir tmp;
-  writeTinyTumSequence(tmp.path());
+  makeDataset(tmp.path());
   writeText(tmp / "rgb.txt",
             "\xEF\xBB\xBF# color images\r\n100.000000 rgb/100.000000.jpg\r\n101.000000 rgb/101.000000.jpg\r\n");
   writeText(tmp / "depth.txt", "\xEF\xBB\xBF" "100.010000 depth/100.010000.png\r\n101.010000 depth/101.010000.png\r\n");
@@ -144,14 +159,14 @@ TEST(TumDataset, ListsWithWindowsLineEndsAndAByteOrderMarkAreRead) {
 
 TEST(TumDataset, MissingFileName) {
   TempDir tmp;
-  writeTinyTumSequence(tmp.path());
+  makeDataset(tmp.path());
   writeText(tmp / "rgb.txt", "100.0\n");
   EXPECT_NE(test::inputErrorOf([&] { io::TumDataset(tmp.path().string()); }).find("rgb.txt:1"), std::string::npos);
 }
 
 TEST(TumDataset, EmptyAssociation) {
   TempDir tmp;
-  writeTinyTumSequence(tmp.path());
+  makeDataset(tmp.path());
   writeText(tmp / "depth.txt", "200.0 depth/100.010000.png\n");
   const auto msg = test::inputErrorOf([&] { io::TumDataset(tmp.path().string()); });
   EXPECT_NE(msg.find("no RGB image"), std::string::npos) << msg;
@@ -173,7 +188,7 @@ std::string associationText(const io::TumDataset& ds, bool depth_first) {
 
 TEST(TumDataset, AnAssociationFileGivesTheListsPairsInEitherColumnOrder) {
   TempDir tmp;
-  writeTinyTumSequence(tmp.path());
+  makeDataset(tmp.path());
   const io::TumDataset lists(tmp.path().string());
   EXPECT_TRUE(lists.associationFile().empty());
   for (const bool depth_first : {false, true}) {
@@ -196,7 +211,7 @@ TEST(TumDataset, AnAssociationFileGivesTheListsPairsInEitherColumnOrder) {
 
 TEST(TumDataset, AssociationFileErrorsNameTheFileAndLine) {
   TempDir tmp;
-  writeTinyTumSequence(tmp.path());
+  makeDataset(tmp.path());
   const auto open = [&](const std::string& text) {
     writeText(tmp / "pairs.txt", text);
     io::TumDatasetOptions o;
