@@ -33,6 +33,7 @@ struct RunOptions {
   std::string load_map, save_map;  // map files (io/MapFile.h); empty: none
   std::string associations;        // association file instead of rgb.txt / depth.txt; empty: none
   std::string model;               // detector model instead of the config's; empty: the config's
+  std::vector<std::string> set;    // "section.key=value" config overrides
   int start_frame = 0;
   bool localize = false;  // track in the loaded map without changing it
   bool deterministic = false;
@@ -123,7 +124,7 @@ void writeUsedConfig(const std::filesystem::path& path, SlamConfig config) {
 /// The configuration file with the command line's options applied. Throws InputError for options
 /// that do not go together.
 SlamConfig configFor(const RunOptions& o) {
-  SlamConfig config = io::loadConfig(o.config);
+  SlamConfig config = io::loadConfig(o.config, o.set);
   if (o.deterministic) config.deterministic = true;
   if (!o.mode.empty()) config.dynamic.mode = parseDynamicMode(o.mode);
   if (o.detect_every > 0) config.dynamic.detect_every = o.detect_every;
@@ -431,6 +432,10 @@ Action addRunCommand(CLI::App& app) {
   auto o = std::make_shared<RunOptions>();
   auto* cmd = app.add_subcommand("run", "Run RGB-D SLAM on a TUM-layout sequence");
   cmd->add_option("-c,--config", o->config, "Camera/system YAML config (see configs/)")->required();
+  cmd->add_option("--set", o->set,
+                  "Override one config key, as section.key=value (YAML value; repeat for more, e.g. --set "
+                  "dynamic.max_age=5 --set tracking.max_jump_m=0.05); the options below win over it")
+      ->allow_extra_args(false);
   cmd->add_option("-d,--dataset", o->dataset,
                   "Sequence folder with rgb.txt and depth.txt (or see --associations)")
       ->required();

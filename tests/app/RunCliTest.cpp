@@ -62,6 +62,30 @@ TEST(RunCli, ConfigUsedHasTheCommandLinesOptionsAndRepeatsTheRun) {
   EXPECT_NE(out.find("from 64 to 2048"), std::string::npos) << out;
 }
 
+TEST(RunCli, SetOverridesAConfigKeyAndTheNamedOptionsWinOverIt) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  const std::string run = "run -q --max-frames 5 -c " + (test::sourceDir() / "configs" / "tum_fr1.yaml").string() +
+                          " -d " + test::fr1xyz().string() + " -o ";
+  std::string out;
+  ASSERT_EQ(test::runCli(run + (tmp / "a").string() +
+                             " --set tracking.max_jump_m=0.05 --set loop.min_inliers=33 --set dynamic.detect_every=4"
+                             " --detect-every 3",
+                         &out),
+            0)
+      << out;
+  const std::string used = test::readFile(tmp / "a" / "config_used.yaml");
+  EXPECT_NE(used.find("  max_jump_m: 0.05\n"), std::string::npos) << used;
+  EXPECT_NE(used.find("  min_inliers: 33\n"), std::string::npos) << used;  // a section tum_fr1.yaml has not
+  EXPECT_NE(used.find("  detect_every: 3\n"), std::string::npos) << used;  // --detect-every wins
+  // A typo is refused before anything runs, naming the override.
+  EXPECT_EQ(test::runCli(run + (tmp / "b").string() + " --set tracking.max_jump=0.05", &out), 2);
+  EXPECT_NE(out.find("--set 'tracking.max_jump=0.05': unknown key 'tracking.max_jump'"), std::string::npos) << out;
+  EXPECT_FALSE(std::filesystem::exists(tmp / "b" / "trajectory.txt"));
+  EXPECT_EQ(test::runCli(run + (tmp / "b").string() + " --set tracking.max_jump_m=far", &out), 2);
+  EXPECT_NE(out.find("--set tracking.max_jump_m=far: invalid value"), std::string::npos) << out;
+}
+
 TEST(RunCli, FastIsTheTiledLookaheadScheduleAndNeedsAKalmanMode) {
   TKGSLAM_REQUIRE_SHARED();
   test::TempDir tmp;

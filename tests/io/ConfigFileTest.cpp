@@ -61,6 +61,45 @@ TEST(ConfigFile, WrittenOutItReadsBackToTheSameValuesBitForBit) {
   }
 }
 
+std::string overrideErrorOf(const std::string& yaml, const std::vector<std::string>& overrides) {
+  try {
+    io::parseConfig(yaml, "cfg.yaml", overrides);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ConfigFile, CommandLineOverridesReplaceAndAddKeysAndAreCheckedLikeTheFilesOwn) {
+  const std::string yaml = std::string(kMinimal) + "dynamic: {max_age: 3, mode: TKG}\n";
+  const auto c = io::parseConfig(yaml, "cfg.yaml",
+                                 {"dynamic.max_age=7", "loop.min_inliers=33", "camera.distortion=[0.1, 0, 0, 0]",
+                                  "tracking.max_jump_m=0.05", "camera.fx=510.5"});
+  EXPECT_EQ(c.dynamic.tracker.max_age, 7);              // replaced
+  EXPECT_EQ(c.dynamic.mode, DynamicMode::TKG);  // the rest of the section kept
+  EXPECT_EQ(c.loop.min_inliers, 33);            // a section the file does not have
+  EXPECT_DOUBLE_EQ(c.camera.distortion[0], 0.1);
+  EXPECT_DOUBLE_EQ(c.tracking.max_jump_m, 0.05);
+  EXPECT_DOUBLE_EQ(c.camera.fx, 510.5);
+  EXPECT_EQ(io::parseConfig(yaml, "cfg.yaml", {"dynamic.max_age=2", "dynamic.max_age=5"}).dynamic.tracker.max_age, 5);  // last wins
+  // Errors name the override, not the file.
+  EXPECT_NE(overrideErrorOf(yaml, {"dynamic.max_agee=5"}).find("--set 'dynamic.max_agee=5': unknown key 'dynamic.max_agee'"),
+            std::string::npos);
+  EXPECT_NE(overrideErrorOf(yaml, {"dinamic.max_age=5"}).find("unknown key 'dinamic.max_age'"), std::string::npos);
+  EXPECT_NE(overrideErrorOf(yaml, {"dynamic.max_age=abc"}).find("--set dynamic.max_age=abc: invalid value, it takes"),
+            std::string::npos);
+  EXPECT_NE(overrideErrorOf(yaml, {"dynamic.max_age=-1"}).find("cfg.yaml --set dynamic.max_age=-1: dynamic.max_age must be >= 0"),
+            std::string::npos);
+  for (const char* malformed : {"max_age=5", "dynamic.max_age", ".max_age=5", "dynamic.=5", "dynamic=5"}) {
+    EXPECT_NE(overrideErrorOf(yaml, {malformed}).find("expected section.key=value"), std::string::npos) << malformed;
+  }
+  EXPECT_NE(overrideErrorOf(yaml, {"dynamic.max_age="}).find("no value after '='"), std::string::npos);
+  EXPECT_NE(overrideErrorOf(yaml, {"dynamic.max_age=[1"}).find("not valid YAML"), std::string::npos);
+  // A file whose section is not a mapping stays an error of the file.
+  EXPECT_NE(overrideErrorOf(std::string(kMinimal) + "loop: 5\n", {"loop.min_inliers=33"}).find("cfg.yaml: section 'loop' must be a mapping"),
+            std::string::npos);
+}
+
 TEST(ConfigFile, MinimalConfigGetsDefaults) {
   const auto c = io::parseConfig(kMinimal, "x");
   EXPECT_DOUBLE_EQ(c.depth.factor, 5000);

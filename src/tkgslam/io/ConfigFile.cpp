@@ -87,8 +87,10 @@ void require(bool ok, const std::string& source, const std::string& what) {
 // Reads one mapping section, remembering which keys were used so leftovers can be reported.
 class Section {
  public:
-  Section(const YAML::Node& root, std::string name, std::string source, bool required)
-      : name_(std::move(name)), source_(std::move(source)) {
+  /// `overridden`: this section's keys set on the command line (their errors name the override).
+  Section(const YAML::Node& root, std::string name, std::string source, bool required,
+          std::set<std::string> overridden = {})
+      : name_(std::move(name)), source_(std::move(source)), overridden_(std::move(overridden)) {
     const YAML::Node found = static_cast<const YAML::Node&>(root)[name_];
     if (!found || found.IsNull()) {
       if (required) throw InputError(fmt::format("{}: missing section '{}'", source_, name_));
@@ -112,6 +114,10 @@ class Section {
     try {
       parsed = section[key].template as<T>();
     } catch (const YAML::Exception&) {
+      if (overridden_.count(key)) {
+        throw InputError(fmt::format("--set {}.{}={}: invalid value, it takes {}", name_, key, shownValue(section[key]),
+                                     kindOf<T>()));
+      }
       throw InputError(fmt::format("{}:{}: key '{}.{}' has an invalid value '{}': it takes {}", source_,
                                    section[key].Mark().line + 1, name_, key, shownValue(section[key]), kindOf<T>()));
     }
@@ -134,6 +140,7 @@ class Section {
   YAML::Node node_;
   bool present_ = false;
   std::string name_, source_;
+  std::set<std::string> overridden_;
   std::set<std::string> used_;
 };
 
@@ -407,9 +414,48 @@ void writeValue(YAML::Emitter& out, const std::vector<int>& values) {
 
 void writeValue(YAML::Emitter& out, DynamicMode mode) { out << toString(mode); }
 
+// Applies "section.key=value" overrides to the parsed file; returns the keys set, by section.
+std::map<std::string, std::set<std::string>> applyOverrides(YAML::Node& root, const std::vector<std::string>& overrides,
+                                                            const std::string& source) {
+  std::map<std::string, std::set<std::string>> overridden;
+  if (overrides.empty()) return overridden;
+  std::set<std::pair<std::string, std::string>> known;
+  const SlamConfig defaults;
+  forEachKey(defaults, [&](const char* section, const char* key, const auto&, bool) { known.emplace(section, key); });
+  for (const auto& o : overrides) {
+    const size_t eq = o.find('='), dot = o.find('.');
+    if (eq == std::string::npos || dot == std::string::npos || dot == 0 || dot + 1 >= eq) {
+      throw InputError(fmt::format("--set '{}': expected section.key=value, e.g. dynamic.max_age=5", o));
+    }
+    const std::string section = o.substr(0, dot), key = o.substr(dot + 1, eq - dot - 1), text = o.substr(eq + 1);
+    if (!known.count({section, key})) {
+      throw InputError(fmt::format("--set '{}': unknown key '{}.{}' (the keys are listed in the README's config "
+                                   "format and in any run's config_used.yaml)",
+                                   o, section, key));
+    }
+    YAML::Node value;
+    try {
+      value = YAML::Load(text);
+    } catch (const YAML::Exception& e) {
+      throw InputError(fmt::format("--set '{}': the value is not valid YAML: {}", o, e.msg));
+    }
+    if (!value || value.IsNull()) throw InputError(fmt::format("--set '{}': no value after '='", o));
+    YAML::Node in_file = root[section];
+    if (!in_file || in_file.IsNull()) {
+      root[section] = YAML::Node(YAML::NodeType::Map);
+    } else if (!in_file.IsMap()) {
+      throw InputError(fmt::format("{}: section '{}' must be a mapping", source, section));
+    }
+    root[section][key] = value;
+    overridden[section].insert(key);
+  }
+  return overridden;
+}
+
 }  // namespace
 
-SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) {
+SlamConfig parseConfig(const std::string& yaml_text, const std::string& source,
+                       const std::vector<std::string>& overrides) {
   YAML::Node root;
   try {
     root = YAML::Load(yaml_text);
@@ -426,8 +472,16 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
       throw InputError(fmt::format("{}: unknown section '{}'", source, key));
     }
   }
+  const auto overridden = applyOverrides(root, overrides, source);
   std::map<std::string, Section> sections;
-  for (const auto& name : kSections) sections.try_emplace(name, root, name, source, name == "camera");
+  for (const auto& name : kSections) {
+    const auto o = overridden.find(name);
+    sections.try_emplace(name, root, name, source, name == "camera",
+                         o == overridden.end() ? std::set<std::string>{} : o->second);
+  }
+  // Range checks name the overrides too: the value may have come from either.
+  std::string checked = source;
+  for (const auto& o : overrides) checked += " --set " + o;
 
   SlamConfig c;
   c.source = source;
@@ -436,18 +490,18 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source) 
   });
   for (const auto& [name, s] : sections) s.checkNoUnknownKeys();
 
-  checkCameraDepthOrb(c, source);
-  checkTracking(c.tracking, source);
-  checkMapping(c.mapping, source);
-  checkLoop(c.loop, source);
+  checkCameraDepthOrb(c, checked);
+  checkTracking(c.tracking, checked);
+  checkMapping(c.mapping, checked);
+  checkLoop(c.loop, checked);
   // A relative model path is relative to the config file's folder.
   auto& model = c.dynamic.detector.model;
   if (!model.empty() && std::filesystem::path(model).is_relative()) {
     model = (std::filesystem::path(source).parent_path() / model).lexically_normal().string();
   }
   c.dynamic.object.focal_px = c.camera.fy;  // box sizes (px) to metres
-  checkDynamic(c.dynamic, source);
-  require(c.opencv_threads >= 0 && c.opencv_threads <= SlamConfig::kMaxOpenCvThreads, source,
+  checkDynamic(c.dynamic, checked);
+  require(c.opencv_threads >= 0 && c.opencv_threads <= SlamConfig::kMaxOpenCvThreads, checked,
           fmt::format("system.opencv_threads must be in [0, {}] (0 = OpenCV's default)", SlamConfig::kMaxOpenCvThreads));
 
   return c;
@@ -470,11 +524,11 @@ std::string configToYaml(const SlamConfig& config) {
   return std::string(out.c_str()) + "\n";
 }
 
-SlamConfig loadConfig(const std::string& path) {
+SlamConfig loadConfig(const std::string& path, const std::vector<std::string>& overrides) {
   std::ifstream in = openInputFile(path, "config file");
   std::stringstream ss;
   ss << in.rdbuf();
-  return parseConfig(ss.str(), path);
+  return parseConfig(ss.str(), path, overrides);
 }
 
 }  // namespace tkgslam::io

@@ -10,16 +10,21 @@
 // and tracking, mapping, loop, dynamic: every key is listed once, in forEachKey (ConfigFile.cpp), and
 // documented in the README's "Camera config format".
 #include <string>
+#include <vector>
 
 #include "tkgslam/system/SlamConfig.h"
 
 namespace tkgslam::io {
 
 /// Loads and validates a config file. Throws InputError naming the file and key on any problem.
-SlamConfig loadConfig(const std::string& path);
+/// `overrides` ("section.key=value", the value in YAML: `dynamic.max_age=5`, `camera.distortion=[0,0,0,0]`)
+/// replace or add keys before the file is read, so they are checked like the file's own keys; an
+/// unknown key or a value of the wrong kind names the override.
+SlamConfig loadConfig(const std::string& path, const std::vector<std::string>& overrides = {});
 
-/// Parses a config from YAML text (`source` names it in error messages).
-SlamConfig parseConfig(const std::string& yaml_text, const std::string& source);
+/// Parses a config from YAML text (`source` names it in error messages), with `overrides` as above.
+SlamConfig parseConfig(const std::string& yaml_text, const std::string& source,
+                       const std::vector<std::string>& overrides = {});
 
 /// Every key of `config` as YAML that parseConfig reads back to the same values, bit for bit (the
 /// model path as it is in `config`: parseConfig resolves a relative one against the file's folder).
