@@ -81,14 +81,17 @@ TEST(ConfigFile, CommandLineOverridesReplaceAndAddKeysAndAreCheckedLikeTheFilesO
   EXPECT_DOUBLE_EQ(c.camera.distortion[0], 0.1);
   EXPECT_DOUBLE_EQ(c.tracking.max_jump_m, 0.05);
   EXPECT_DOUBLE_EQ(c.camera.fx, 510.5);
-  EXPECT_EQ(io::parseConfig(yaml, "cfg.yaml", {"dynamic.max_age=2", "dynamic.max_age=5"}).dynamic.tracker.max_age, 5);  // last wins
+  // The last of one key's overrides wins.
+  EXPECT_EQ(io::parseConfig(yaml, "cfg.yaml", {"dynamic.max_age=2", "dynamic.max_age=5"}).dynamic.tracker.max_age, 5);
   // Errors name the override, not the file.
-  EXPECT_NE(overrideErrorOf(yaml, {"dynamic.max_agee=5"}).find("--set 'dynamic.max_agee=5': unknown key 'dynamic.max_agee'"),
+  EXPECT_NE(overrideErrorOf(yaml, {"dynamic.max_agee=5"})
+                .find("--set 'dynamic.max_agee=5': unknown key 'dynamic.max_agee'"),
             std::string::npos);
   EXPECT_NE(overrideErrorOf(yaml, {"dinamic.max_age=5"}).find("unknown key 'dinamic.max_age'"), std::string::npos);
   EXPECT_NE(overrideErrorOf(yaml, {"dynamic.max_age=abc"}).find("--set dynamic.max_age=abc: invalid value, it takes"),
             std::string::npos);
-  EXPECT_NE(overrideErrorOf(yaml, {"dynamic.max_age=-1"}).find("cfg.yaml --set dynamic.max_age=-1: dynamic.max_age must be >= 0"),
+  EXPECT_NE(overrideErrorOf(yaml, {"dynamic.max_age=-1"})
+                .find("cfg.yaml --set dynamic.max_age=-1: dynamic.max_age must be >= 0"),
             std::string::npos);
   for (const char* malformed : {"max_age=5", "dynamic.max_age", ".max_age=5", "dynamic.=5", "dynamic=5"}) {
     EXPECT_NE(overrideErrorOf(yaml, {malformed}).find("expected section.key=value"), std::string::npos) << malformed;
@@ -96,7 +99,8 @@ TEST(ConfigFile, CommandLineOverridesReplaceAndAddKeysAndAreCheckedLikeTheFilesO
   EXPECT_NE(overrideErrorOf(yaml, {"dynamic.max_age="}).find("no value after '='"), std::string::npos);
   EXPECT_NE(overrideErrorOf(yaml, {"dynamic.max_age=[1"}).find("not valid YAML"), std::string::npos);
   // A file whose section is not a mapping stays an error of the file.
-  EXPECT_NE(overrideErrorOf(std::string(kMinimal) + "loop: 5\n", {"loop.min_inliers=33"}).find("cfg.yaml: section 'loop' must be a mapping"),
+  EXPECT_NE(overrideErrorOf(std::string(kMinimal) + "loop: 5\n", {"loop.min_inliers=33"})
+                .find("cfg.yaml: section 'loop' must be a mapping"),
             std::string::npos);
 }
 
