@@ -4,7 +4,9 @@
 # paper's Tables 1-4 in OUT/tables.md.
 #   bench/dynamic_benchmark.sh [OUT]        env: FRAMES (default 300), MODES, SEQ, ONLY (sequence names to
 #                                           (re)run, e.g. "static high"; default all), SEEDS, SEEDED,
-#                                           JOBS (runs at a time, default 1), TKGSLAM_BIN (the CLI to run)
+#                                           JOBS (runs at a time, default 1), TKGSLAM_BIN (the CLI to run),
+#                                           SET (config overrides for every run, e.g. "dynamic.max_age=5
+#                                           loop.enabled=false": each one is a `run --set`; no spaces in a value)
 # Every run uses --deterministic, so one run per cell is the median of any number of runs. What a
 # single composite cannot show is how much a difference between modes depends on where the people
 # happen to walk: SEEDS="22 32" adds replicas of the SEEDED composites (default "high very_high high_blur high_shake extreme")
@@ -63,8 +65,12 @@ run_one() {  # sequence-name dataset-dir mode
   mode_flags "$mode"  # checked at the start
   mkdir -p "$res"
   echo "== $name / $mode"
-  if ! "$BIN" run -q --deterministic -c "$CFG" -d "$dir" -o "$res" "${MODE_FLAGS[@]}" --max-frames "$FRAMES" > "$res/run.log" 2>&1; then
-    echo "run failed: $name / $mode (see $res/run.log)" >&2
+  local overrides=() sets=() kv
+  read -r -a sets <<< "${SET:-}"  # split on spaces, no glob expansion ("[0,1]" is a YAML list)
+  for kv in ${sets[@]+"${sets[@]}"}; do overrides+=(--set "$kv"); done
+  if ! "$BIN" run -q --deterministic -c "$CFG" -d "$dir" -o "$res" "${MODE_FLAGS[@]}" ${overrides[@]+"${overrides[@]}"} \
+      --max-frames "$FRAMES" > "$res/run.log" 2>&1; then
+    echo "run failed: $name / $mode: $(tail -n 1 "$res/run.log") (see $res/run.log)" >&2
     return 1
   fi
   "$BIN" eval --json --frames "$dir" "$dir/groundtruth.txt" "$res/trajectory.txt" > "$res/eval.json" 2> "$res/eval.err" ||
@@ -94,6 +100,9 @@ if [ -f "$failed" ]; then
   exit 1
 fi
 python3 "$ROOT/bench/make_tables.py" "$OUT" "$FRAMES" > "$OUT/tables.md"
+if [ -n "${SET:-}" ]; then
+  printf '\n%s\n' "Config overrides of every run (SET, each a \`run --set\`): ${SET}" >> "$OUT/tables.md"
+fi
 if [ "$JOBS" -gt 1 ]; then
   printf '\n%s\n' "Timing: these runs went $JOBS at a time, sharing the machine's cores: the multiples of T above are inflated (JOBS=1 for timing)." >> "$OUT/tables.md"
 fi

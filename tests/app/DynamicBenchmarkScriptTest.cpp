@@ -66,5 +66,21 @@ TEST(DynamicBenchmarkScript, RefusesABadJobCountOrModeWithExitCode2) {
   EXPECT_FALSE(fs::exists(tmp / "out" / "seq_low")) << "nothing is built before the input is checked";
 }
 
+TEST(DynamicBenchmarkScript, SetPassesConfigOverridesToEveryRunAndTheTablesSayWhich) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  const std::string env = "FRAMES=10 MODES=orb ONLY=static ";
+  std::string out;
+  ASSERT_EQ(runScript(env + "SET='loop.min_inliers=33 camera.distortion=[0.26,-0.95,0,0,1.16]'", tmp / "set", &out), 0)
+      << out;
+  const std::string used = test::readFile(tmp / "set" / "runs" / "static" / "orb" / "config_used.yaml");
+  EXPECT_NE(used.find("  min_inliers: 33\n"), std::string::npos) << used;
+  EXPECT_NE(used.find("  distortion: [0.26, -0.95, 0, 0, 1.16]\n"), std::string::npos) << used;
+  EXPECT_NE(test::readFile(tmp / "set" / "tables.md").find("loop.min_inliers=33"), std::string::npos);
+  // A typo fails the run, and the script says why.
+  EXPECT_EQ(runScript(env + "SET='loop.min_inlier=33'", tmp / "typo", &out), 1) << out;
+  EXPECT_NE(out.find("unknown key 'loop.min_inlier'"), std::string::npos) << out;
+}
+
 }  // namespace
 }  // namespace tkgslam
