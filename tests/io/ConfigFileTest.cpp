@@ -93,6 +93,9 @@ TEST(ConfigFile, CommandLineOverridesReplaceAndAddKeysAndAreCheckedLikeTheFilesO
   EXPECT_NE(overrideErrorOf(yaml, {"dynamic.max_age=-1"})
                 .find("cfg.yaml --set dynamic.max_age=-1: dynamic.max_age must be >= 0"),
             std::string::npos);
+  EXPECT_NE(overrideErrorOf(yaml, {"camera.distortion=[0.1, 0.2]"})
+                .find("cfg.yaml --set camera.distortion=[0.1, 0.2]: camera.distortion must list 4 or 5"),
+            std::string::npos);
   for (const char* malformed : {"max_age=5", "dynamic.max_age", ".max_age=5", "dynamic.=5", "dynamic=5"}) {
     EXPECT_NE(overrideErrorOf(yaml, {malformed}).find("expected section.key=value"), std::string::npos) << malformed;
   }

@@ -87,10 +87,14 @@ void require(bool ok, const std::string& source, const std::string& what) {
 // Reads one mapping section, remembering which keys were used so leftovers can be reported.
 class Section {
  public:
-  /// `overridden`: this section's keys set on the command line (their errors name the override).
+  /// `overridden`: this section's keys set on the command line (their errors name the override);
+  /// `checked`: what range errors name (the file and the overrides).
   Section(const YAML::Node& root, std::string name, std::string source, bool required,
-          std::set<std::string> overridden = {})
-      : name_(std::move(name)), source_(std::move(source)), overridden_(std::move(overridden)) {
+          std::set<std::string> overridden = {}, std::string checked = {})
+      : name_(std::move(name)),
+        source_(std::move(source)),
+        checked_(checked.empty() ? source_ : std::move(checked)),
+        overridden_(std::move(overridden)) {
     const YAML::Node found = static_cast<const YAML::Node&>(root)[name_];
     if (!found || found.IsNull()) {
       if (required) throw InputError(fmt::format("{}: missing section '{}'", source_, name_));
@@ -126,7 +130,7 @@ class Section {
     value = std::move(parsed);
   }
 
-  void require(bool ok, const std::string& what) const { io::require(ok, source_, what); }
+  void require(bool ok, const std::string& what) const { io::require(ok, checked_, what); }
 
   void checkNoUnknownKeys() const {
     if (!present_) return;
@@ -139,7 +143,7 @@ class Section {
  private:
   YAML::Node node_;
   bool present_ = false;
-  std::string name_, source_;
+  std::string name_, source_, checked_;
   std::set<std::string> overridden_;
   std::set<std::string> used_;
 };
@@ -473,15 +477,15 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source,
     }
   }
   const auto overridden = applyOverrides(root, overrides, source);
+  // Range checks name the overrides too: the value may have come from either.
+  std::string checked = source;
+  for (const auto& o : overrides) checked += " --set " + o;
   std::map<std::string, Section> sections;
   for (const auto& name : kSections) {
     const auto o = overridden.find(name);
     sections.try_emplace(name, root, name, source, name == "camera",
-                         o == overridden.end() ? std::set<std::string>{} : o->second);
+                         o == overridden.end() ? std::set<std::string>{} : o->second, checked);
   }
-  // Range checks name the overrides too: the value may have come from either.
-  std::string checked = source;
-  for (const auto& o : overrides) checked += " --set " + o;
 
   SlamConfig c;
   c.source = source;
