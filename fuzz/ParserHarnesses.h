@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "tkgslam/common/Error.h"
 #include "tkgslam/dynamic/OnnxSiluFusion.h"
@@ -66,9 +67,17 @@ inline void fuzzTrajectory(const std::uint8_t* data, std::size_t size) {
 /// A YAML config as `tkgslam run -c` reads it; one it accepts must also survive being written out
 /// (config_used.yaml) and read back: the same text again, so the same values.
 inline void fuzzConfig(const std::uint8_t* data, std::size_t size) {
+  // Before the first NUL byte the file; after it, one `run --set` override per line.
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  const auto split = text.find('\0');
+  std::vector<std::string> overrides;
+  if (split != std::string::npos) {
+    std::istringstream lines(text.substr(split + 1));
+    for (std::string line; std::getline(lines, line);) overrides.push_back(line);
+  }
   SlamConfig config;
   try {
-    config = io::parseConfig(std::string(reinterpret_cast<const char*>(data), size), "config.yaml");
+    config = io::parseConfig(text.substr(0, split), "config.yaml", overrides);
   } catch (const InputError&) {
     return;
   }
