@@ -60,15 +60,16 @@ for c in "${COMPOSITES[@]}"; do
   fi
 done
 
+OVERRIDES=()  # SET as `run --set` arguments: split on spaces, no glob expansion ("[0,1]" is a YAML list)
+read -r -a set_items <<< "${SET:-}"
+for kv in ${set_items[@]+"${set_items[@]}"}; do OVERRIDES+=(--set "$kv"); done
+
 run_one() {  # sequence-name dataset-dir mode
   local name=$1 dir=$2 mode=$3 res="$OUT/runs/$1/$3"
   mode_flags "$mode"  # checked at the start
   mkdir -p "$res"
   echo "== $name / $mode"
-  local overrides=() sets=() kv
-  read -r -a sets <<< "${SET:-}"  # split on spaces, no glob expansion ("[0,1]" is a YAML list)
-  for kv in ${sets[@]+"${sets[@]}"}; do overrides+=(--set "$kv"); done
-  if ! "$BIN" run -q --deterministic -c "$CFG" -d "$dir" -o "$res" "${MODE_FLAGS[@]}" ${overrides[@]+"${overrides[@]}"} \
+  if ! "$BIN" run -q --deterministic -c "$CFG" -d "$dir" -o "$res" "${MODE_FLAGS[@]}" ${OVERRIDES[@]+"${OVERRIDES[@]}"} \
       --max-frames "$FRAMES" > "$res/run.log" 2>&1; then
     echo "run failed: $name / $mode: $(tail -n 1 "$res/run.log") (see $res/run.log)" >&2
     return 1

@@ -84,13 +84,24 @@ void require(bool ok, const std::string& source, const std::string& what) {
   if (!ok) throw InputError(fmt::format("{}: {}", source, what));
 }
 
+const std::vector<std::string> kSections = {"camera", "depth", "orb", "tracking", "mapping", "loop", "dynamic", "system"};
+
+// A section's keys set on the command line (`run --set`), each with the override's text.
+using Overridden = std::map<std::string, std::string>;
+
+std::string unknownOverride(const std::string& text, const std::string& section, const std::string& key) {
+  return fmt::format("--set '{}': unknown key '{}.{}' (the keys are listed in the README's config format and in any "
+                     "run's config_used.yaml)",
+                     text, section, key);
+}
+
 // Reads one mapping section, remembering which keys were used so leftovers can be reported.
 class Section {
  public:
   /// `overridden`: this section's keys set on the command line (their errors name the override);
   /// `checked`: what range errors name (the file and the overrides).
-  Section(const YAML::Node& root, std::string name, std::string source, bool required,
-          std::set<std::string> overridden = {}, std::string checked = {})
+  Section(const YAML::Node& root, std::string name, std::string source, bool required, Overridden overridden = {},
+          std::string checked = {})
       : name_(std::move(name)),
         source_(std::move(source)),
         checked_(checked.empty() ? source_ : std::move(checked)),
@@ -118,9 +129,9 @@ class Section {
     try {
       parsed = section[key].template as<T>();
     } catch (const YAML::Exception&) {
-      if (overridden_.count(key)) {
-        throw InputError(fmt::format("--set {}.{}={}: invalid value, it takes {}", name_, key, shownValue(section[key]),
-                                     kindOf<T>()));
+      const auto o = overridden_.find(key);
+      if (o != overridden_.end()) {
+        throw InputError(fmt::format("--set {}: invalid value, it takes {}", o->second, kindOf<T>()));
       }
       throw InputError(fmt::format("{}:{}: key '{}.{}' has an invalid value '{}': it takes {}", source_,
                                    section[key].Mark().line + 1, name_, key, shownValue(section[key]), kindOf<T>()));
@@ -136,7 +147,10 @@ class Section {
     if (!present_) return;
     for (const auto& kv : node_) {
       const auto key = keyName(kv.first, source_, "section '" + name_ + "'");
-      if (!used_.count(key)) throw InputError(fmt::format("{}: unknown key '{}.{}'", source_, name_, key));
+      if (used_.count(key)) continue;
+      const auto o = overridden_.find(key);
+      if (o != overridden_.end()) throw InputError(unknownOverride(o->second, name_, key));
+      throw InputError(fmt::format("{}: unknown key '{}.{}'", source_, name_, key));
     }
   }
 
@@ -144,7 +158,7 @@ class Section {
   YAML::Node node_;
   bool present_ = false;
   std::string name_, source_, checked_;
-  std::set<std::string> overridden_;
+  Overridden overridden_;
   std::set<std::string> used_;
 };
 
@@ -418,24 +432,19 @@ void writeValue(YAML::Emitter& out, const std::vector<int>& values) {
 
 void writeValue(YAML::Emitter& out, DynamicMode mode) { out << toString(mode); }
 
-// Applies "section.key=value" overrides to the parsed file; returns the keys set, by section.
-std::map<std::string, std::set<std::string>> applyOverrides(YAML::Node& root, const std::vector<std::string>& overrides,
-                                                            const std::string& source) {
-  std::map<std::string, std::set<std::string>> overridden;
-  if (overrides.empty()) return overridden;
-  std::set<std::pair<std::string, std::string>> known;
-  const SlamConfig defaults;
-  forEachKey(defaults, [&](const char* section, const char* key, const auto&, bool) { known.emplace(section, key); });
+// Applies "section.key=value" overrides to the parsed file; returns the keys set, by section. (An unknown
+// key in a known section is left to Section::checkNoUnknownKeys, like the file's own.)
+std::map<std::string, Overridden> applyOverrides(YAML::Node& root, const std::vector<std::string>& overrides,
+                                                 const std::string& source) {
+  std::map<std::string, Overridden> overridden;
   for (const auto& o : overrides) {
     const size_t eq = o.find('='), dot = o.find('.');
     if (eq == std::string::npos || dot == std::string::npos || dot == 0 || dot + 1 >= eq) {
       throw InputError(fmt::format("--set '{}': expected section.key=value, e.g. dynamic.max_age=5", o));
     }
     const std::string section = o.substr(0, dot), key = o.substr(dot + 1, eq - dot - 1), text = o.substr(eq + 1);
-    if (!known.count({section, key})) {
-      throw InputError(fmt::format("--set '{}': unknown key '{}.{}' (the keys are listed in the README's config "
-                                   "format and in any run's config_used.yaml)",
-                                   o, section, key));
+    if (std::find(kSections.begin(), kSections.end(), section) == kSections.end()) {
+      throw InputError(unknownOverride(o, section, key));
     }
     YAML::Node value;
     try {
@@ -451,7 +460,7 @@ std::map<std::string, std::set<std::string>> applyOverrides(YAML::Node& root, co
       throw InputError(fmt::format("{}: section '{}' must be a mapping", source, section));
     }
     root[section][key] = value;
-    overridden[section].insert(key);
+    overridden[section][key] = o;  // the last of one key's overrides wins, in the file and in messages
   }
   return overridden;
 }
@@ -468,8 +477,6 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source,
   }
   if (!root.IsMap()) throw InputError(fmt::format("{}: expected a YAML mapping at top level", source));
   checkNoDuplicateKeys(root, source, "", "the top level");
-  static const std::vector<std::string> kSections = {"camera", "depth", "orb", "tracking",
-                                                      "mapping", "loop", "dynamic", "system"};
   for (const auto& kv : root) {
     const auto key = keyName(kv.first, source, "the top level");
     if (std::find(kSections.begin(), kSections.end(), key) == kSections.end()) {
@@ -484,7 +491,7 @@ SlamConfig parseConfig(const std::string& yaml_text, const std::string& source,
   for (const auto& name : kSections) {
     const auto o = overridden.find(name);
     sections.try_emplace(name, root, name, source, name == "camera",
-                         o == overridden.end() ? std::set<std::string>{} : o->second, checked);
+                         o == overridden.end() ? Overridden{} : o->second, checked);
   }
 
   SlamConfig c;
