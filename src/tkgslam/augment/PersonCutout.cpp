@@ -4,7 +4,6 @@
 #include <filesystem>
 
 #include <fmt/format.h>
-#include <spdlog/spdlog.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -50,19 +49,6 @@ bool isWholeUprightPerson(const cv::Mat& mask) {
   return bottom - top + 1 >= 0.85 * mask.rows;
 }
 
-bool isUniformColour(const cv::Mat& bgr, const cv::Mat& mask) {
-  if (bgr.empty() || cv::countNonZero(mask) == 0) return true;
-  cv::Mat grey;
-  cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
-  // Inside the outline only: GrabCut's edge pixels blend in some of the photo's background.
-  cv::Mat inner;
-  cv::erode(mask, inner, cv::getStructuringElement(cv::MORPH_ELLIPSE, {9, 9}));
-  if (cv::countNonZero(inner) == 0) inner = mask;
-  cv::Scalar mean, sd;
-  cv::meanStdDev(grey, mean, sd, inner);
-  return sd[0] < 4.0;
-}
-
 std::vector<PersonCutout> extractPersonCutouts(const std::string& folder, dynamic::YoloDetector& detector,
                                                int min_height, float min_score, bool whole_only) {
   namespace fs = std::filesystem;
@@ -90,11 +76,6 @@ std::vector<PersonCutout> extractPersonCutouts(const std::string& folder, dynami
       if (whole_only && !isWholeUprightPerson(c.mask)) continue;
       c.bgr = img(box).clone();
       c.source = f.filename().string();
-      if (isUniformColour(c.bgr, c.mask)) {
-        spdlog::info("skipped the person at ({}, {}) in {}: one uniform colour (an anonymised silhouette, not a person's appearance)",
-                     box.x, box.y, c.source);
-        continue;
-      }
       out.push_back(std::move(c));
     }
   }

@@ -17,9 +17,7 @@ struct PersonCutout {
 };
 
 /// Extracts the confidently detected persons of every image in `folder` (sorted by name) that are
-/// at least `min_height` pixels tall. A person of one uniform colour (see isUniformColour) is
-/// skipped: it is a privacy mask, such as the black silhouettes of anonymised photos, and a
-/// detector does not see it as it sees people. With `whole_only`, only whole upright people: the
+/// at least `min_height` pixels tall. With `whole_only`, only whole upright people: the
 /// segmentation spans the box from head to feet (>= 85 % of its height; GrabCut on a dark,
 /// blurred photo may keep just a torso) and the box is at most 0.45 as wide as tall (a standing
 /// person; a sitting one or a half body cut off by the photo is wider). Throws InputError if
@@ -30,11 +28,6 @@ std::vector<PersonCutout> extractPersonCutouts(const std::string& folder, dynami
 /// Whether a cut-out's mask (255 = person) spans its box from head to feet and the box has a
 /// standing person's shape (see extractPersonCutouts).
 bool isWholeUprightPerson(const cv::Mat& mask);
-
-/// Whether the pixels of a cut-out (`bgr`, `mask` 255 on the person, same size) inside its
-/// outline have one colour: grey-level S.D. below 4 (real people in the photos: 47-74; the black
-/// silhouette of an anonymised person: 0).
-bool isUniformColour(const cv::Mat& bgr, const cv::Mat& mask);
 
 /// GrabCut segmentation of the object inside `box` (initialised from the box).
 cv::Mat segmentInBox(const cv::Mat& bgr, const cv::Rect& box);
