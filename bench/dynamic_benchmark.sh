@@ -22,14 +22,14 @@ OUT=${1:-"$ROOT/out/dynamic_benchmark"}
 FRAMES=${FRAMES:-300}
 JOBS=${JOBS:-1}
 [[ "$JOBS" =~ ^[1-9][0-9]*$ ]] || { echo "JOBS must be a positive whole number, not '$JOBS'" >&2; exit 2; }
-MODES=${MODES:-"orb T TK TG TKG TKGp TKGa TKGl TKGt"}   # TKGp: the paper's TKG; TKGa/l/t: asynchronous detector (see run_one)
+MODES=${MODES:-"orb T TK TG TKG TKGp TKGa TKGl TKGt TKGf"}   # TKGp: the paper's TKG; TKGa/l/t/f: asynchronous detector (see run_one)
 CFG="$ROOT/configs/tum_fr1.yaml"
 # shellcheck source=bench/modes.sh
 source "$ROOT/bench/modes.sh"
 [ -x "$BIN" ] || { echo "build first: scripts/build.sh" >&2; exit 1; }
 [ -d "$SEQ" ] || { echo "sequence $SEQ not found" >&2; exit 1; }
 for mode in $MODES; do
-  mode_flags "$mode" || { echo "unknown mode '$mode' (modes: orb T TK TG TKG TKGp TKGa TKGl TKGt TKGs)" >&2; exit 2; }
+  mode_flags "$mode" || { echo "unknown mode '$mode' (modes: orb T TK TG TKG TKGp TKGa TKGl TKGt TKGf TKGs)" >&2; exit 2; }
 done
 mkdir -p "$OUT"
 

@@ -11,7 +11,7 @@ from run_files import frame_ms, load, posed_untracked, stage_ms_per_frame
 
 out, frames = sys.argv[1], int(sys.argv[2])
 seqs = ["static", "low", "high", "very_high", "high_blur", "high_shake", "extreme"]
-modes = ["orb", "T", "TK", "TG", "TKG", "TKGp", "TKGa", "TKGl", "TKGt"]
+modes = ["orb", "T", "TK", "TG", "TKG", "TKGp", "TKGa", "TKGl", "TKGt", "TKGf"]
 
 
 @functools.lru_cache(maxsize=None)  # the tables read the same runs several times
@@ -218,7 +218,9 @@ print("Composites: real people (cut out of real photos) walking their own 3-D pa
       "TKGa = TKG with the asynchronous detector (every 8th frame, used 8 frames later); "
       "TKGl = the same with lookahead (frames held back until the next detection, boxes interpolated; "
       "poses 15 frames late); TKGt = lookahead with tiled detector runs (every 2nd frame detected, 4 frames "
-      "tiled 2x2 at half size into one run, still one run per 8 frames; poses 15 frames late). "
+      "tiled 2x2 at half size into one run, still one run per 8 frames; poses 15 frames late); TKGf = every frame "
+      "detected at 320 x 256 on the detector's thread one frame ahead of tracking (lookahead with latency 1; "
+      "poses 1 frame late; `run --fast`). "
       "Every mode bridges up to 3 untrackable frames with the motion model (counted as tracked, in "
       "brackets below; motion-blurred frames up to 9, and they make no keyframes) and re-anchors a new map "
       "segment to the previous one when it sees the same scene. Frames lost for at most 5 frames before "
@@ -260,7 +262,7 @@ for s in seqs:
 def precision_recall_svg(path):
     """Precision/recall of the dynamic-keypoint classification, one marker per (sequence, mode)."""
     W, H, M = 560, 420, 60
-    colours = {"T": "#1f77b4", "TK": "#ff7f0e", "TG": "#2ca02c", "TKG": "#d62728", "TKGa": "#9467bd", "TKGl": "#8c564b", "TKGt": "#e377c2"}
+    colours = {"T": "#1f77b4", "TK": "#ff7f0e", "TG": "#2ca02c", "TKG": "#d62728", "TKGa": "#9467bd", "TKGl": "#8c564b", "TKGt": "#e377c2", "TKGf": "#17becf"}
     shapes = {"low": "circle", "high": "square", "very_high": "diamond", "high_blur": "triangle",
               "high_shake": "cross", "extreme": "ring"}
     parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}">',

@@ -12,8 +12,11 @@ mode_flags() {
     # TKGl: the same, frames held back until the next detection (boxes interpolated, poses 15 frames late).
     TKGl) MODE_FLAGS=(--mode TKG --detect-every 8 --detector-latency 8 --opencv-threads 1 --lookahead) ;;
     # TKGt: lookahead with tiled runs: every 2nd frame detected, 4 frames (2x2, half size) per run,
-    # one run per 8 frames as above (poses 15 frames late). The same as `tkgslam run --fast`.
+    # one run per 8 frames as above (poses 15 frames late). `tkgslam run --fast` until session 58.
     TKGt) MODE_FLAGS=(--mode TKG --detect-every 2 --detector-tiles 4 --detector-latency 8 --opencv-threads 1 --lookahead) ;;
+    # TKGf: every frame detected at 320 x 256, one frame ahead of tracking (lookahead with latency 1,
+    # poses 1 frame late), OpenCV on one thread. The same as `tkgslam run --fast`.
+    TKGf) MODE_FLAGS=(--mode TKG --detector-size 320 --detector-latency 1 --opencv-threads 1 --lookahead) ;;
     # TKGs: TKG with the detector's input at 320 x 256 instead of 640 x 480 (every frame detected, ~5 x faster runs).
     TKGs) MODE_FLAGS=(--mode TKG --detector-size 320) ;;
     *) return 1 ;;

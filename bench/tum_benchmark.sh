@@ -4,7 +4,7 @@
 #   bench/tum_benchmark.sh [-o OUT] DIR...
 # Each DIR is a TUM sequence folder (with rgb.txt) or a folder holding such sequences, e.g. the
 # unpacked rgbd_dataset_freiburg3_walking_xyz, ... The config follows the folder name (freiburg1/2/3 ->
-# configs/tum_fr1/2/3.yaml) unless CONFIG is set. Env: MODES (default "orb T TKG TKGt"; any of
+# configs/tum_fr1/2/3.yaml) unless CONFIG is set. Env: MODES (default "orb T TKG TKGf"; any of
 # bench/modes.sh), FRAMES (first N frames only; default all), FORCE=1 (rerun runs that are already
 # done; by default a finished run - OUT/runs/SEQ/MODE/run.json - is kept, so an interrupted
 # benchmark resumes), TKGSLAM_BIN (the CLI to run; default build/bin/tkgslam). Every run uses
@@ -24,12 +24,12 @@ while getopts "o:h" opt; do
 done
 shift $((OPTIND - 1))
 [ $# -gt 0 ] || usage
-MODES=${MODES:-"orb T TKG TKGt"}
+MODES=${MODES:-"orb T TKG TKGf"}
 FRAMES=${FRAMES:-0}
 [[ "$FRAMES" =~ ^[0-9]+$ ]] || { echo "FRAMES must be a whole number, got '$FRAMES'" >&2; exit 2; }
 [ -x "$BIN" ] || { echo "build first: scripts/build.sh" >&2; exit 2; }
 for mode in $MODES; do
-  mode_flags "$mode" || { echo "unknown mode '$mode' (modes: orb T TK TG TKG TKGp TKGa TKGl TKGt)" >&2; exit 2; }
+  mode_flags "$mode" || { echo "unknown mode '$mode' (modes: orb T TK TG TKG TKGp TKGa TKGl TKGt TKGf TKGs)" >&2; exit 2; }
 done
 if [ -n "${CONFIG:-}" ] && [ ! -f "$CONFIG" ]; then echo "CONFIG: no such file: $CONFIG" >&2; exit 2; fi
 

@@ -8,7 +8,7 @@ from run_files import frame_ms, load, posed_untracked
 
 out = sys.argv[1]
 runs = os.path.join(out, "runs")
-ORDER = ["orb", "T", "TK", "TG", "TKG", "TKGp", "TKGa", "TKGl", "TKGt"]
+ORDER = ["orb", "T", "TK", "TG", "TKG", "TKGp", "TKGa", "TKGl", "TKGt", "TKGf", "TKGs"]
 
 # The paper's Tables 1 and 2 (RMSE / S.D., m; "RPE" is the translational drift over 1 s): its own
 # method, CFP-SLAM (its strongest competitor) and DynaSLAM. None = not given in the paper.
@@ -103,7 +103,8 @@ print("# TUM RGB-D benchmark (deterministic runs)\n")
 if not seqs:
     print("No runs found.")
     sys.exit(0)
-print("Modes as in `bench/modes.sh` (TKGt: lookahead with tiled detector runs; poses come 15 frames late). "
+print("Modes as in `bench/modes.sh` (TKGf = `run --fast`: every frame detected at 320 x 256, one frame ahead, poses 1 frame "
+      "late; TKGt: lookahead with tiled detector runs, poses 15 frames late). "
       "ATE and RPE as the TUM scripts compute them (`tkgslam eval`); \"—\" = no run, no ground truth, or not "
       "published. The paper's numbers are its Tables 1 and 2 (Intel i5; its RPE is the translational drift "
       "over 1 s).")

@@ -86,15 +86,15 @@ TEST(RunCli, SetOverridesAConfigKeyAndTheNamedOptionsWinOverIt) {
   EXPECT_NE(out.find("--set tracking.max_jump_m=far: invalid value"), std::string::npos) << out;
 }
 
-TEST(RunCli, FastIsTheTiledLookaheadScheduleAndNeedsAKalmanMode) {
+TEST(RunCli, FastIsThePipelinedSmallInputScheduleAndNeedsAKalmanMode) {
   TKGSLAM_REQUIRE_SHARED();
   test::TempDir tmp;
   const std::string run = "run --deterministic -q --max-frames 20 -c " +
                           (test::sourceDir() / "configs" / "tum_fr1.yaml").string() + " -d " + test::fr1xyz().string();
   std::string out;
   ASSERT_EQ(test::runCli(run + " --mode TKG --fast -o " + (tmp / "fast").string(), &out), 0) << out;
-  ASSERT_EQ(test::runCli(run + " --mode TKG --detect-every 2 --detector-tiles 4 --detector-latency 8 --lookahead "
-                               "--opencv-threads 1 -o " + (tmp / "flags").string(),
+  ASSERT_EQ(test::runCli(run + " --mode TKG --detector-size 320 --detector-latency 1 --lookahead --opencv-threads 1 -o " +
+                             (tmp / "flags").string(),
                          &out),
             0)
       << out;
@@ -102,13 +102,22 @@ TEST(RunCli, FastIsTheTiledLookaheadScheduleAndNeedsAKalmanMode) {
   EXPECT_GT(trajectory.size(), 1000u);
   EXPECT_EQ(test::readFile(tmp / "flags" / "trajectory.txt"), trajectory);
   const std::string used = test::readFile(tmp / "fast" / "config_used.yaml");
-  for (const char* line : {"  detect_every: 2\n", "  detector_tiles: 4\n", "  detector_latency: 8\n",
-                           "  lookahead: true\n", "  opencv_threads: 1\n"}) {
+  for (const char* line : {"  detect_every: 1\n", "  detector_tiles: 1\n", "  detector_latency: 1\n",
+                           "  lookahead: true\n", "  input_size: 320\n", "  opencv_threads: 1\n"}) {
     EXPECT_NE(used.find(line), std::string::npos) << line << used;
   }
+  // Every frame was detected: 20 detector runs.
+  EXPECT_NE(test::readFile(tmp / "fast" / "timing.json").find("\"detector\": {\"count\": 20,"), std::string::npos);
   // Options given explicitly win; the latency follows them (one run per detect_every x tiles frames).
-  ASSERT_EQ(test::runCli(run + " --mode TK --fast --detect-every 3 -o " + (tmp / "every3").string(), &out), 0) << out;
-  EXPECT_NE(test::readFile(tmp / "every3" / "config_used.yaml").find("  detector_latency: 12\n"), std::string::npos);
+  ASSERT_EQ(test::runCli(run + " --mode TK --fast --detect-every 2 --detector-tiles 4 --detector-size 640 -o " +
+                             (tmp / "tiled").string(),
+                         &out),
+            0)
+      << out;
+  const std::string tiled = test::readFile(tmp / "tiled" / "config_used.yaml");
+  for (const char* line : {"  detect_every: 2\n", "  detector_tiles: 4\n", "  detector_latency: 8\n", "  input_size: 640\n"}) {
+    EXPECT_NE(tiled.find(line), std::string::npos) << line << tiled;
+  }
 
   for (const char* mode : {"orb", "T", "TG"}) {
     EXPECT_EQ(test::runCli(run + " --fast --mode " + mode + " -o " + (tmp / mode).string(), &out), 2);
