@@ -124,9 +124,10 @@ struct DynamicParams {
   bool object_mask = false;
   dynamic::ObjectMaskParams object;
   int detector_latency = 0;  ///< frames until a detection is used (0 = wait for it; see BoxPipeline)
-  /// Kalman modes: tracks' boxes also follow optical flow between frames. "auto" = only when the
-  /// detector does not run on every frame or its result arrives late (with a detection on every
-  /// frame the flow only moves missed boxes and did not pay for its ~1 ms there).
+  /// Kalman modes: tracks' boxes also follow optical flow between frames. "auto" = only when some
+  /// frames are tracked without a detection of their own: the detector skips frames, tiles them, or
+  /// its result arrives late without lookahead (with a detection on every frame the flow only moves
+  /// missed boxes and did not pay for its ~1 ms there; run --fast: bench/results/detector_input_300.md).
   std::string box_flow = "auto";
   /// Asynchronous detection: erase the map points that keyframes created inside the boxes of a
   /// detection that arrived late (see SlamSystem::cullLateDynamicPoints).
@@ -147,7 +148,13 @@ struct DynamicParams {
   int usesTiles() const { return usesLookahead() ? detector_tiles : 1; }
   /// Lookahead: the most frames a frame waits for its boxes (N x tiles + L - 1).
   int lookaheadDelay() const { return usesLookahead() ? detect_every * usesTiles() + detector_latency - 1 : 0; }
-  bool usesBoxFlow() const { return usesKalman() && (box_flow == "on" || (box_flow == "auto" && sparseDetection())); }
+  /// Some frames get boxes predicted, not detected: skipped, tiled, or (without lookahead) late.
+  bool framesWithoutOwnDetection() const {
+    return detect_every > 1 || detector_tiles > 1 || (detector_latency > 0 && !lookahead);
+  }
+  bool usesBoxFlow() const {
+    return usesKalman() && (box_flow == "on" || (box_flow == "auto" && framesWithoutOwnDetection()));
+  }
   bool usesKalman() const { return mode == DynamicMode::TK || mode == DynamicMode::TKG; }
   bool usesGeometry() const { return mode == DynamicMode::TG || mode == DynamicMode::TKG; }
 };
