@@ -142,15 +142,17 @@ struct DynamicParams {
   /// Boxes cover at least this share of the image: ORB features are extracted again outside them,
   /// so the whole feature budget goes to what may be static (0 = off; every mode with boxes).
   double refill_ratio = 0.4;
-  /// The detector does not give every frame its own boxes on time.
+  /// Not every frame is detected synchronously: frames skipped, tiled, or detected late (what
+  /// lookahead can hold frames back for).
   bool sparseDetection() const { return detect_every > 1 || detector_latency > 0 || detector_tiles > 1; }
   bool usesLookahead() const { return lookahead && usesKalman() && sparseDetection(); }
   int usesTiles() const { return usesLookahead() ? detector_tiles : 1; }
   /// Lookahead: the most frames a frame waits for its boxes (N x tiles + L - 1).
   int lookaheadDelay() const { return usesLookahead() ? detect_every * usesTiles() + detector_latency - 1 : 0; }
-  /// Some frames get boxes predicted, not detected: skipped, tiled, or (without lookahead) late.
+  /// Some frames are tracked with predicted, not detected, boxes: sparse detection, unless lookahead
+  /// holds every frame back until its own detection (one frame per run, none skipped).
   bool framesWithoutOwnDetection() const {
-    return detect_every > 1 || detector_tiles > 1 || (detector_latency > 0 && !lookahead);
+    return sparseDetection() && !(usesLookahead() && detect_every == 1 && detector_tiles == 1);
   }
   bool usesBoxFlow() const {
     return usesKalman() && (box_flow == "on" || (box_flow == "auto" && framesWithoutOwnDetection()));
