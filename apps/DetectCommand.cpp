@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <string>
 
 #include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
@@ -75,8 +76,10 @@ int runDetect(DetectOptions o) {
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     cv::Mat vis = img.clone();
     const cv::Size input = detector.inputSize();
-    std::printf("%s: %zu dynamic objects (%.1f ms at %d x %d)\n", path.c_str(), dets.size(), ms, input.width,
-                input.height);
+    const std::string extra =
+        o.params.extra_input_size > 0 ? fmt::format(" and long side {}", o.params.extra_input_size) : "";
+    std::printf("%s: %zu dynamic objects (%.1f ms at %d x %d%s)\n", path.c_str(), dets.size(), ms, input.width,
+                input.height, extra.c_str());
     for (const auto& d : dets) {
       std::printf("  class %2d score %.3f box x %.1f y %.1f w %.1f h %.1f\n", d.class_id, d.score, d.box.x, d.box.y,
                   d.box.width, d.box.height);
@@ -102,6 +105,9 @@ Action addDetectCommand(CLI::App& app) {
   cmd->add_option("-o,--out", o->out, "Output folder")->default_val(o->out);
   auto* model = cmd->add_option("--model", o->params.model, "YOLOv5 ONNX model")->default_val(o->params.model);
   cmd->add_option("--size", o->params.input_size, "Network input's long side (multiple of 32)")->default_val(640);
+  cmd->add_option("--extra-size", o->params.extra_input_size,
+                  "A second pass at this long side, boxes merged by NMS (e.g. 320: people too near for --size)")
+      ->default_val(0);
   cmd->add_flag("!--square", o->params.fit_input,
                 "Letterbox into a --size square instead of an input of the image's aspect ratio");
   cmd->add_option("--conf", o->params.confidence, "Score threshold")->default_val(0.25);

@@ -22,6 +22,18 @@ TEST(DetectCli, FindsThePeopleInARealPhotoAndDrawsThem) {
   EXPECT_GT(std::filesystem::file_size(tmp / "det" / "bus_det.png"), 10000u);
 }
 
+TEST(DetectCli, AnExtraPassAtASmallerInputIsNamedAndItsSizeChecked) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  const std::string bus = (test::sharedDir() / "datasets" / "people" / "bus.jpg").string();
+  std::string out;
+  ASSERT_EQ(test::runCli(detectArgs(tmp) + "--extra-size 320 " + bus, &out), 0) << out;
+  EXPECT_NE(out.find("at 480 x 640 and long side 320)"), std::string::npos) << out;
+  EXPECT_NE(out.find("class  0 score 0."), std::string::npos) << out;
+  EXPECT_EQ(test::runCli(detectArgs(tmp) + "--extra-size 600 " + bus, &out), 2) << out;
+  EXPECT_NE(out.find("input size 600 must be a multiple of 32"), std::string::npos) << out;
+}
+
 TEST(DetectCli, AFolderStandsForTheImagesInIt) {
   TKGSLAM_REQUIRE_SHARED();
   test::TempDir tmp;

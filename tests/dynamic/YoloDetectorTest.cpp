@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "TestSupport.h"
 #include "tkgslam/common/Error.h"
@@ -74,6 +75,46 @@ TEST(YoloDetector, RunsAtALowerResolution) {
   EXPECT_GE(bestIou(dets, 0, kLeftMan), 0.5f);
   EXPECT_GE(bestIou(dets, 0, kMiddleMan), 0.5f);
   EXPECT_GE(bestIou(dets, 0, kRightMan), 0.5f);
+}
+
+// A 640 x 480 view of `photo` in which the person in `box` (photo pixels) is `height` times the view's
+// height, centred a little above their middle: how a person walking up to the camera fills the frame.
+cv::Mat closeUp(const cv::Mat& photo, const cv::Rect2f& box, double height, cv::Rect2f* box_in_view) {
+  const double s = height * 480 / box.height;
+  cv::Mat big;
+  cv::resize(photo, big, cv::Size(), s, s, cv::INTER_LINEAR);
+  const cv::Rect src(int((box.x + box.width / 2) * s) - 320, int((box.y + box.height * 0.45f) * s) - 240, 640, 480);
+  cv::Mat view(480, 640, CV_8UC3, cv::Scalar(114, 114, 114));
+  const cv::Rect in = src & cv::Rect(0, 0, big.cols, big.rows);
+  big(in).copyTo(view(in - src.tl()));
+  *box_in_view = cv::Rect2f(float(box.x * s - src.x), float(box.y * s - src.y), float(box.width * s), float(box.height * s)) &
+                 cv::Rect2f(0, 0, 640, 480);
+  return view;
+}
+
+TEST(YoloDetector, AnExtraPassAtASmallerInputFindsAPersonTooNearForTheFirst) {
+  TKGSLAM_REQUIRE_SHARED();
+  const cv::Mat photo =
+      cv::imread((test::sharedDir() / "datasets/people/fr3_walking_halfsphere_1341846434.914148.png").string());
+  ASSERT_FALSE(photo.empty());
+  const cv::Rect2f walker(51.6f, 204.3f, 161.5f, 275.7f);  // found at 640 in the whole frame (measured)
+  dynamic::YoloDetector single(params());
+  ASSERT_GE(bestIou(single.detect(photo), 0, walker), 0.9f);
+  // Enlarged to 1.2 x the view's height (cut at the feet and head), the 640 x 480 pass loses him
+  // (measured: no box at all); at 320 x 256 he is as large as the people the model learnt.
+  cv::Rect2f near;
+  const cv::Mat view = closeUp(photo, walker, 1.2, &near);
+  EXPECT_LT(bestIou(single.detect(view), 0, near), 0.5f) << "premise: the 640 pass misses him";
+  auto p = params();
+  p.extra_input_size = 320;
+  dynamic::YoloDetector both(p);
+  EXPECT_GE(bestIou(both.detect(view), 0, near), 0.8f);
+  EXPECT_EQ(both.inputSize(), cv::Size(640, 480));  // the first pass's
+  // The passes' boxes go through one NMS: each person of bus.jpg is found once.
+  const cv::Mat bus = cv::imread((test::sharedDir() / "datasets/people/bus.jpg").string());
+  expectThePeopleOfBusJpg(both.detect(bus), 4);
+  p.extra_input_size = 600;  // not a multiple of 32
+  EXPECT_THROW(dynamic::YoloDetector{p}, InputError);
 }
 
 TEST(YoloDetector, NoPersonOnADeskWithoutPeople) {
@@ -164,3 +205,4 @@ TEST(YoloDetector, MissingOrMalformedModelIsAClearError) {
 
 }  // namespace
 }  // namespace tkgslam
+

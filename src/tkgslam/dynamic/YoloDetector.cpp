@@ -18,6 +18,12 @@ namespace tkgslam::dynamic {
 
 namespace {
 
+/// The extra pass (DetectorParams::extra_input_size) is for people near the camera: of its boxes only
+/// those at least this share of the image's height count. Smaller people the first pass finds
+/// better, and the extra pass's small boxes were mostly loose or false (on fr1_xyz, with no people,
+/// they cost 0.0004 m of ATE; detector_input_300.md, session 59).
+constexpr double kExtraPassMinHeight = 0.5;
+
 /// Where one image sits in the network input: scale and top-left corner (input pixels).
 struct Placement {
   float r;
@@ -138,10 +144,14 @@ std::vector<int> defaultDynamicClasses() {
 YoloDetector::YoloDetector(const DetectorParams& params) : params_(params) {
   if (params_.model.empty()) throw InputError("detector: no model path configured (dynamic.model)");
   std::ifstream file = io::openInputFile(params_.model, "detector: model file", std::ios::binary);
-  if (!DetectorParams::validInputSize(params_.input_size)) {
-    throw InputError(fmt::format("detector: input size {} must be a multiple of 32 from 64 to {}", params_.input_size,
-                                 DetectorParams::kMaxInputSize));
-  }
+  const auto checkSize = [](int size) {
+    if (!DetectorParams::validInputSize(size)) {
+      throw InputError(fmt::format("detector: input size {} must be a multiple of 32 from 64 to {}", size,
+                                   DetectorParams::kMaxInputSize));
+    }
+  };
+  checkSize(params_.input_size);
+  if (params_.extra_input_size != 0) checkSize(params_.extra_input_size);
   if (!(params_.confidence > 0 && params_.confidence < 1) || !(params_.person_confidence > 0 && params_.person_confidence < 1) ||
       !(params_.nms > 0 && params_.nms <= 1)) {
     throw InputError("detector: confidence thresholds must be in (0, 1) and nms in (0, 1]");
@@ -150,13 +160,16 @@ YoloDetector::YoloDetector(const DetectorParams& params) : params_(params) {
   if (model_bytes_.empty()) throw InputError(fmt::format("detector: ONNX model '{}' is empty", params_.model));
   cv::Mat out;
   try {
-    net_ = load();
-    export_size_ = yoloHeadExportSize(net_);
+    passes_.push_back({params_.input_size, load(), {}});
+    if (params_.extra_input_size > 0) passes_.push_back({params_.extra_input_size, load(), {}});
+    export_size_ = yoloHeadExportSize(passes_.front().net);
     // Probe the output shape once so a wrong model fails at start-up, not mid-run.
-    prepareNet(cv::Size(params_.input_size, params_.input_size));
-    cv::Mat probe(params_.input_size, params_.input_size, CV_8UC3, cv::Scalar(114, 114, 114));
-    net_.setInput(cv::dnn::blobFromImage(probe, 1.0 / 255.0, cv::Size(), cv::Scalar(), true, false));
-    out = net_.forward();
+    for (Pass& pass : passes_) {
+      prepareNet(pass, cv::Size(pass.size, pass.size));
+      cv::Mat probe(pass.size, pass.size, CV_8UC3, cv::Scalar(114, 114, 114));
+      pass.net.setInput(cv::dnn::blobFromImage(probe, 1.0 / 255.0, cv::Size(), cv::Scalar(), true, false));
+      out = pass.net.forward();
+    }
   } catch (const cv::Exception& e) {
     std::string why = e.what();
     while (!why.empty() && std::isspace(static_cast<unsigned char>(why.back()))) why.pop_back();
@@ -184,19 +197,19 @@ cv::dnn::Net YoloDetector::load() const {
   return net;
 }
 
-void YoloDetector::prepareNet(cv::Size input) {
-  if (input == net_input_) return;
-  if (!net_input_.empty()) net_ = load();  // a net that ran at another size has fused its layers
-  if (export_size_ > 0 && input != cv::Size(export_size_, export_size_) && !resizeYoloHead(net_, input)) {
+void YoloDetector::prepareNet(Pass& pass, cv::Size input) {
+  if (input == pass.input) return;
+  if (!pass.input.empty()) pass.net = load();  // a net that ran at another size has fused its layers
+  if (export_size_ > 0 && input != cv::Size(export_size_, export_size_) && !resizeYoloHead(pass.net, input)) {
     throw InputError(fmt::format("detector: cannot resize the head of '{}' to {} x {}", params_.model, input.width,
                                  input.height));
   }
-  net_input_ = input;
+  pass.input = input;
 }
 
 cv::Size YoloDetector::inputSize() {
   std::lock_guard<std::mutex> lock(mutex_);
-  return net_input_;
+  return passes_.front().input;
 }
 
 std::vector<Detection> YoloDetector::detect(const cv::Mat& bgr) { return detectTiles({bgr}).front(); }
@@ -206,15 +219,34 @@ std::vector<std::vector<Detection>> YoloDetector::detectTiles(const std::vector<
   for (const auto& bgr : images) {
     if (bgr.empty() || bgr.type() != CV_8UC3) throw InputError("detector: expects 8-bit BGR images");
   }
-  const TiledInput tiled = tileImages(images, params_.input_size, params_.fit_input && export_size_ > 0);
-  cv::Mat out;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    prepareNet(tiled.input.size());
-    net_.setInput(cv::dnn::blobFromImage(tiled.input, 1.0 / 255.0, cv::Size(), cv::Scalar(), true, false));
-    out = net_.forward();
+  std::vector<ClassCandidates> candidates;
+  for (Pass& pass : passes_) {
+    const TiledInput tiled = tileImages(images, pass.size, params_.fit_input && export_size_ > 0);
+    cv::Mat out;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      prepareNet(pass, tiled.input.size());
+      pass.net.setInput(cv::dnn::blobFromImage(tiled.input, 1.0 / 255.0, cv::Size(), cv::Scalar(), true, false));
+      out = pass.net.forward();
+    }
+    auto found = decodeRows(out, tiled, params_, wanted_);
+    if (candidates.empty()) {
+      candidates = std::move(found);
+      continue;
+    }
+    for (size_t img = 0; img < images.size(); ++img) {  // the passes' boxes go through one NMS
+      const double min_height = kExtraPassMinHeight * images[img].rows;
+      for (size_t id = 0; id < found[img].boxes.size(); ++id) {
+        auto& boxes = candidates[img].boxes[id];
+        auto& scores = candidates[img].scores[id];
+        for (size_t k = 0; k < found[img].boxes[id].size(); ++k) {
+          if (found[img].boxes[id][k].height < min_height) continue;
+          boxes.push_back(found[img].boxes[id][k]);
+          scores.push_back(found[img].scores[id][k]);
+        }
+      }
+    }
   }
-  const auto candidates = decodeRows(out, tiled, params_, wanted_);
   std::vector<std::vector<Detection>> result(images.size());
   for (size_t img = 0; img < images.size(); ++img) {
     result[img] = suppress(candidates[img], images[img].size(), params_.nms);

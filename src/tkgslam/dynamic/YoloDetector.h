@@ -28,6 +28,11 @@ struct DetectorParams {
 
   std::string model;          ///< path to the ONNX file
   int input_size = 640;       ///< S: the input's long side, pixels (multiple of 32, 64 to kMaxInputSize)
+  /// A second pass at this long side (0 = none; e.g. 320), for people near the camera: its boxes at
+  /// least half the image tall join the first pass's before NMS. At 640 YOLOv5n loses many people
+  /// taller than the frame (blurred, bent or seated ones of the TUM fr3 frames), which it finds
+  /// at 320; it costs a second forward pass (+13 ms at 320 x 256).
+  int extra_input_size = 0;
   /// Fit the input to the image's aspect ratio (S x S*h/w rounded up to 32: 640 x 480 for a VGA
   /// frame, a quarter less work than the letterboxed S x S square and the same boxes) when the
   /// model's head can be resized; otherwise, and when false, letterbox into S x S.
@@ -52,19 +57,25 @@ class YoloDetector {
   std::vector<std::vector<Detection>> detectTiles(const std::vector<cv::Mat>& images);
 
   const DetectorParams& params() const { return params_; }
-  /// The network input (pixels) of the last detection (before the first: S x S).
+  /// The network input (pixels) of the last detection's first pass (before the first: S x S).
   cv::Size inputSize();
 
  private:
+  /// One forward pass per detection: a net and the input it is prepared for.
+  struct Pass {
+    int size = 0;  ///< the input's long side
+    cv::dnn::Net net;
+    cv::Size input;
+  };
+
   cv::dnn::Net load() const;
-  /// Makes net_ run at `input` (reloading and resizing its head when it changes). Under mutex_.
-  void prepareNet(cv::Size input);
+  /// Makes the pass's net run at `input` (reloading and resizing its head when it changes). Under mutex_.
+  void prepareNet(Pass& pass, cv::Size input);
 
   DetectorParams params_;
   std::vector<uchar> model_bytes_;
   int export_size_ = 0;  ///< the head's export size; 0 = not resizable (runs at S x S only)
-  cv::dnn::Net net_;
-  cv::Size net_input_;
+  std::vector<Pass> passes_;  ///< input_size, then extra_input_size if set
   std::vector<char> wanted_;  ///< per class id
   std::mutex mutex_;
 };

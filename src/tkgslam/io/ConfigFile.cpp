@@ -222,6 +222,7 @@ void forEachKey(Config& c, Visit&& key) {
   key("dynamic", "mode", dy.mode, false);
   key("dynamic", "model", d.model, false);
   key("dynamic", "input_size", d.input_size, false);
+  key("dynamic", "extra_input_size", d.extra_input_size, false);
   key("dynamic", "fit_input", d.fit_input, false);
   key("dynamic", "confidence", d.confidence, false);
   key("dynamic", "person_confidence", d.person_confidence, false);
