@@ -133,6 +133,17 @@ std::vector<Detection> suppress(const ClassCandidates& c, cv::Size image, float 
   return dets;
 }
 
+/// Appends `from`'s candidates at least `min_height` tall (image pixels) to `into`, class by class.
+void appendTallCandidates(const ClassCandidates& from, double min_height, ClassCandidates& into) {
+  for (size_t id = 0; id < from.boxes.size(); ++id) {
+    for (size_t k = 0; k < from.boxes[id].size(); ++k) {
+      if (from.boxes[id][k].height < min_height) continue;
+      into.boxes[id].push_back(from.boxes[id][k]);
+      into.scores[id].push_back(from.scores[id][k]);
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<int> defaultDynamicClasses() {
@@ -219,8 +230,7 @@ std::vector<std::vector<Detection>> YoloDetector::detectTiles(const std::vector<
   for (const auto& bgr : images) {
     if (bgr.empty() || bgr.type() != CV_8UC3) throw InputError("detector: expects 8-bit BGR images");
   }
-  std::vector<ClassCandidates> candidates;
-  for (Pass& pass : passes_) {
+  const auto runPass = [&](Pass& pass) {
     const TiledInput tiled = tileImages(images, pass.size, params_.fit_input && export_size_ > 0);
     cv::Mat out;
     {
@@ -229,22 +239,14 @@ std::vector<std::vector<Detection>> YoloDetector::detectTiles(const std::vector<
       pass.net.setInput(cv::dnn::blobFromImage(tiled.input, 1.0 / 255.0, cv::Size(), cv::Scalar(), true, false));
       out = pass.net.forward();
     }
-    auto found = decodeRows(out, tiled, params_, wanted_);
-    if (candidates.empty()) {
-      candidates = std::move(found);
-      continue;
-    }
-    for (size_t img = 0; img < images.size(); ++img) {  // the passes' boxes go through one NMS
-      const double min_height = kExtraPassMinHeight * images[img].rows;
-      for (size_t id = 0; id < found[img].boxes.size(); ++id) {
-        auto& boxes = candidates[img].boxes[id];
-        auto& scores = candidates[img].scores[id];
-        for (size_t k = 0; k < found[img].boxes[id].size(); ++k) {
-          if (found[img].boxes[id][k].height < min_height) continue;
-          boxes.push_back(found[img].boxes[id][k]);
-          scores.push_back(found[img].scores[id][k]);
-        }
-      }
+    return decodeRows(out, tiled, params_, wanted_);
+  };
+  // The extra pass's tall boxes join the first pass's, and all go through one NMS.
+  std::vector<ClassCandidates> candidates = runPass(passes_.front());
+  for (size_t i = 1; i < passes_.size(); ++i) {
+    const std::vector<ClassCandidates> extra = runPass(passes_[i]);
+    for (size_t img = 0; img < images.size(); ++img) {
+      appendTallCandidates(extra[img], kExtraPassMinHeight * images[img].rows, candidates[img]);
     }
   }
   std::vector<std::vector<Detection>> result(images.size());
