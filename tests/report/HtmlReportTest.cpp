@@ -104,6 +104,33 @@ TEST(HtmlReport, SmallRunFolderWithoutGroundTruth) {
   EXPECT_NE(html.find("<tr><th>frames</th><td>2</td></tr>"), std::string::npos);
 }
 
+TEST(HtmlReport, DatasetPathWithQuoteAndBackslashIsReadBack) {
+  // run.json escapes them (\" and \\); the report used to cut the path at the quote, and so lost
+  // the ground truth's accuracy section without a word.
+  test::TempDir tmp;
+  const std::filesystem::path dataset = tmp.path() / "we\"ird\\seq";
+  std::filesystem::create_directories(dataset);
+  test::writeText(dataset / "groundtruth.txt", "1.0 0 0 0 0 0 0 1\n1.1 0.01 0 0 0 0 0 1\n");
+  const std::filesystem::path run = tmp.path() / "run";
+  writeSmallRun(run, kDynamicLine);
+  std::string escaped;
+  for (const char c : dataset.string()) escaped += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
+  test::writeText(run / "run.json", "{\"dataset\": \"" + escaped + "\", \"mode\": \"TKG\", \"frames\": 2}\n");
+  const std::string html = test::readFile(report::writeHtmlReport(run.string()));
+  EXPECT_NE(html.find("we&quot;ird\\seq</code>"), std::string::npos);
+  EXPECT_NE(html.find("ATE RMSE 0.0000 m over 2 poses"), std::string::npos);
+  EXPECT_EQ(html.find("No ground truth"), std::string::npos);
+}
+
+TEST(HtmlReport, RunJsonThatIsNotJsonIsAClearError) {
+  test::TempDir tmp;
+  writeSmallRun(tmp.path(), kDynamicLine);
+  test::writeText(tmp.path() / "run.json", "{\"dataset\": \"/tmp/x, \"mode\": \n");  // cut short
+  std::string out;
+  EXPECT_EQ(test::runCli("report " + tmp.path().string(), &out), 2);
+  EXPECT_NE(out.find("run.json: not valid JSON"), std::string::npos) << out;
+}
+
 TEST(HtmlReport, MalformedDynamicLogNamesTheLine) {
   test::TempDir tmp;
   // Line 2 has no number for T; line 2 of the second file a box whose x is not a number.
