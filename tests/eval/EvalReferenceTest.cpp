@@ -32,6 +32,9 @@ struct Case {
   const char* ground_truth;
 };
 
+// Named in ctest's listing instead of gtest's byte dump of the struct.
+void PrintTo(const Case& c, std::ostream* os) { *os << c.estimate_dir << " vs " << c.ground_truth; }
+
 class EvalReference : public ::testing::TestWithParam<Case> {};
 
 TEST_P(EvalReference, MatchesTumScriptsToFourDecimals) {
