@@ -1,6 +1,10 @@
 # The benchmark modes as `tkgslam run` flags; sourced by bench/dynamic_benchmark.sh and
 # bench/tum_benchmark.sh so both mean the same by a mode's name.
 #   mode_flags MODE   -> sets the array MODE_FLAGS (non-zero status for an unknown mode)
+# TK, TKG, TKGp and TKGs detect every frame, and `tkgslam run` pipelines that by default since session 61
+# (the detector one frame ahead, `--pipeline`): the same trajectories as waiting for each detection,
+# less time per frame. T and TG have no Kalman tracker to hold frames for, and wait. Tables of earlier
+# sessions timed TK / TKG waiting.
 mode_flags() {
   case "$1" in
     orb | T | TK | TG | TKG) MODE_FLAGS=(--mode "$1") ;;

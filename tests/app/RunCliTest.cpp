@@ -126,6 +126,44 @@ TEST(RunCli, FastIsThePipelinedSmallInputScheduleAndNeedsAKalmanMode) {
   }
 }
 
+// With every frame detected, `run` lets the detector work on the next frame while this one is tracked
+// (lookahead, latency 1): the same boxes, so the same trajectory as waiting for each detection.
+TEST(RunCli, PipelineRunsTheDetectorOneFrameAheadWithTheSameTrajectory) {
+  TKGSLAM_REQUIRE_SHARED();
+  test::TempDir tmp;
+  const std::string base = "run --deterministic -c " + (test::sourceDir() / "configs" / "tum_fr1.yaml").string() +
+                           " -d " + test::fr1xyz().string();
+  const std::string run = base + " --max-frames 40";
+  std::string out;
+  ASSERT_EQ(test::runCli(run + " --mode TKG -o " + (tmp / "on").string(), &out), 0) << out;
+  EXPECT_NE(out.find("(deterministic, dynamic mode TKG, detector one frame ahead)"), std::string::npos) << out;
+  ASSERT_EQ(test::runCli(run + " -q --mode TKG --pipeline off -o " + (tmp / "off").string(), &out), 0) << out;
+  const std::string trajectory = test::readFile(tmp / "on" / "trajectory.txt");
+  EXPECT_GT(trajectory.size(), 2000u);
+  EXPECT_EQ(test::readFile(tmp / "off" / "trajectory.txt"), trajectory);
+  // Not trivially the same: the person behind the desk is boxed and keypoints on him dropped.
+  const std::string boxes = test::readFile(tmp / "on" / "dynamic.jsonl");
+  EXPECT_NE(boxes.find("\"predicted\": false"), std::string::npos);
+  EXPECT_EQ(test::readFile(tmp / "off" / "dynamic.jsonl"), boxes);
+  // config_used.yaml says what ran, so it repeats the run.
+  const std::string on = test::readFile(tmp / "on" / "config_used.yaml");
+  EXPECT_NE(on.find("  detector_latency: 1\n"), std::string::npos) << on;
+  EXPECT_NE(on.find("  lookahead: true\n"), std::string::npos) << on;
+  EXPECT_NE(test::readFile(tmp / "on" / "timing.json").find("\"detector\": {\"count\": 40,"), std::string::npos);
+  const std::string off = test::readFile(tmp / "off" / "config_used.yaml");
+  EXPECT_NE(off.find("  detector_latency: 0\n"), std::string::npos) << off;
+  EXPECT_NE(off.find("  lookahead: false\n"), std::string::npos) << off;
+
+  // Not pipelined: an explicit --detector-latency, a mode without the Kalman tracker (lookahead needs it;
+  // a latency alone would make the detection late), flow forced on, sparse detection.
+  for (const std::string flags : {"--mode TKG --detector-latency 0", "--mode T", "--mode TG", "--mode TKG --box-flow on",
+                                  "--mode TKG --detect-every 2"}) {
+    ASSERT_EQ(test::runCli(base + " -q --max-frames 3 " + flags + " -o " + (tmp / "x").string(), &out), 0) << out;
+    EXPECT_EQ(out.find("one frame ahead"), std::string::npos) << flags << ": " << out;
+    EXPECT_NE(test::readFile(tmp / "x" / "config_used.yaml").find("  lookahead: false\n"), std::string::npos) << flags;
+  }
+}
+
 // A second run into the same folder must not leave the first run's files beside its own: an orb run
 // after a TKG run would otherwise have the TKG run's dynamic.jsonl, and its report that run's boxes.
 TEST(RunCli, ARunIntoAnEarlierRunsFolderReplacesAllItsOutputs) {
