@@ -48,7 +48,8 @@ else
     COMP="$DIR/composite"
     [ -f "$COMP/rgb.txt" ] || "$BIN" augment -c configs/tum_fr1.yaml -d "$SEQ" -p "$PEOPLE" -o "$COMP" \
       --frames 100 --count 3 --min-size 0.75 --max-size 1.0 --speed 0.4 --seed 14 > /dev/null
-    run_check "$COMP" "$DIR/run_composite" "${ONE[@]}"
+    # Each frame waiting for its own detection (run pipelines that by default; lookahead is the tiled run's).
+    run_check "$COMP" "$DIR/run_composite" "${ONE[@]}" --pipeline off
     run_check "$COMP" "$DIR/run_composite_async" "${ONE[@]}" --detect-every 4 --detector-latency 4
     # Lookahead with tiled runs: frames held back, four frames per detector run.
     run_check "$COMP" "$DIR/run_composite_tiled" "${ONE[@]}" --detect-every 2 --detector-tiles 4 \
