@@ -126,8 +126,8 @@ void writeUsedConfig(const std::filesystem::path& path, SlamConfig config) {
 /// synchronously (TK / TKG, detect_every 1, latency 0, flow not forced on), the detector runs on
 /// frame k + 1 while frame k is tracked: lookahead with latency 1. Every frame still gets its own
 /// detection and the Kalman tracker the same updates in the same order, so the boxes and the
-/// trajectory are the same (byte for byte in deterministic mode: on the 30 composites of
-/// bench/results/detector_input_300.md, session 61), for 22-37 % less time per frame.
+/// trajectory are the same (byte for byte in deterministic mode: the static original, 29 composites
+/// and all of fr1_xyz, bench/results/detector_input_300.md, session 61), for 22-37 % less time per frame.
 void pipelineDetector(SlamConfig& config) {
   const auto& d = config.dynamic;
   if (d.usesKalman() && d.detect_every == 1 && d.detector_latency == 0 && !d.lookahead && d.detector_tiles == 1 &&
@@ -177,7 +177,11 @@ SlamConfig configFor(const RunOptions& o) {
   if (config.dynamic.detector_tiles > 1 && !config.dynamic.lookahead) {
     throw InputError("--detector-tiles > 1 needs --lookahead (the tiles are frames still to be tracked)");
   }
-  if (o.pipeline == "on" && o.detector_latency < 0) pipelineDetector(config);
+  // A latency asked for by name, as an option or with --set, is kept.
+  const bool latency_given = o.detector_latency >= 0 || std::any_of(o.set.begin(), o.set.end(), [](const auto& kv) {
+                               return kv.rfind("dynamic.detector_latency=", 0) == 0;
+                             });
+  if (o.pipeline == "on" && !latency_given) pipelineDetector(config);
   return config;
 }
 
@@ -519,7 +523,7 @@ Action addRunCommand(CLI::App& app) {
                   "TK/TKG with every frame detected: on = the detector works on the next frame while this one is "
                   "tracked (same trajectory, ~30 % less time; the run's config_used.yaml records it as lookahead with "
                   "latency 1); off = each frame waits for its own detection, as a live camera's would. "
-                  "--detector-latency given explicitly turns it off")
+                  "--detector-latency (or --set dynamic.detector_latency=) given explicitly turns it off")
       ->check(CLI::IsMember({"on", "off"}));
   cmd->add_option("--refill-ratio", o->refill_ratio,
                   "Boxes cover at least this share: extract ORB again outside them (0 = off; overrides the config)")

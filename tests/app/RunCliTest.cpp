@@ -156,7 +156,7 @@ TEST(RunCli, PipelineRunsTheDetectorOneFrameAheadWithTheSameTrajectory) {
 
   // Not pipelined: an explicit --detector-latency, a mode without the Kalman tracker (lookahead needs it;
   // a latency alone would make the detection late), flow forced on, sparse detection.
-  for (const std::string flags : {"--mode TKG --detector-latency 0", "--mode T", "--mode TG", "--mode TKG --box-flow on",
+  for (const std::string flags : {"--mode TKG --detector-latency 0", "--mode TKG --set dynamic.detector_latency=0", "--mode T", "--mode TG", "--mode TKG --box-flow on",
                                   "--mode TKG --detect-every 2"}) {
     ASSERT_EQ(test::runCli(base + " -q --max-frames 3 " + flags + " -o " + (tmp / "x").string(), &out), 0) << out;
     EXPECT_EQ(out.find("one frame ahead"), std::string::npos) << flags << ": " << out;
