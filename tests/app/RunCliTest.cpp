@@ -141,7 +141,7 @@ TEST(RunCli, PipelineRunsTheDetectorOneFrameAheadWithTheSameTrajectory) {
   const std::string trajectory = test::readFile(tmp / "on" / "trajectory.txt");
   EXPECT_GT(trajectory.size(), 2000u);
   EXPECT_EQ(test::readFile(tmp / "off" / "trajectory.txt"), trajectory);
-  // Not trivially the same: the person behind the desk is boxed and keypoints on him dropped.
+  // Not trivially the same: the person behind the desk is boxed.
   const std::string boxes = test::readFile(tmp / "on" / "dynamic.jsonl");
   EXPECT_NE(boxes.find("\"predicted\": false"), std::string::npos);
   EXPECT_EQ(test::readFile(tmp / "off" / "dynamic.jsonl"), boxes);
@@ -156,8 +156,8 @@ TEST(RunCli, PipelineRunsTheDetectorOneFrameAheadWithTheSameTrajectory) {
 
   // Not pipelined: an explicit --detector-latency, a mode without the Kalman tracker (lookahead needs it;
   // a latency alone would make the detection late), flow forced on, sparse detection.
-  for (const std::string flags : {"--mode TKG --detector-latency 0", "--mode TKG --set dynamic.detector_latency=0", "--mode T", "--mode TG", "--mode TKG --box-flow on",
-                                  "--mode TKG --detect-every 2"}) {
+  for (const std::string flags : {"--mode TKG --detector-latency 0", "--mode TKG --set dynamic.detector_latency=0",
+                                  "--mode T", "--mode TG", "--mode TKG --box-flow on", "--mode TKG --detect-every 2"}) {
     ASSERT_EQ(test::runCli(base + " -q --max-frames 3 " + flags + " -o " + (tmp / "x").string(), &out), 0) << out;
     EXPECT_EQ(out.find("one frame ahead"), std::string::npos) << flags << ": " << out;
     EXPECT_NE(test::readFile(tmp / "x" / "config_used.yaml").find("  lookahead: false\n"), std::string::npos) << flags;
