@@ -130,8 +130,7 @@ void writeUsedConfig(const std::filesystem::path& path, SlamConfig config) {
 /// and all of fr1_xyz, bench/results/detector_input_300.md, session 61), for 22-37 % less time per frame.
 void pipelineDetector(SlamConfig& config) {
   const auto& d = config.dynamic;
-  if (d.usesKalman() && d.detect_every == 1 && d.detector_latency == 0 && !d.lookahead && d.detector_tiles == 1 &&
-      d.box_flow != "on") {
+  if (d.usesKalman() && !d.sparseDetection() && !d.lookahead && !d.usesBoxFlow()) {
     config.dynamic.lookahead = true;
     config.dynamic.detector_latency = 1;
   }
