@@ -94,6 +94,26 @@ TEST(TumDataset, UnreadableImageNamesTheFile) {
   EXPECT_NE(msg.find("101.000000.jpg"), std::string::npos) << msg;
 }
 
+// A JPEG cut short decodes with grey rows and only a libjpeg warning: it must be refused as such,
+// while one padded after its end-of-image marker (some writers do) is read.
+TEST(TumDataset, ATruncatedJpegIsRefusedAndAPaddedOneRead) {
+  TempDir tmp;
+  makeDataset(tmp.path());
+  cv::Mat noise(48, 64, CV_8UC3);
+  cv::randu(noise, 0, 255);
+  std::vector<uchar> jpeg;
+  cv::imencode(".jpg", noise, jpeg);
+  const std::string whole(jpeg.begin(), jpeg.end());
+  writeText(tmp.path() / "rgb" / "101.000000.jpg", whole.substr(0, whole.size() / 2));
+  writeText(tmp.path() / "rgb" / "102.000000.jpg", whole + std::string(100, '\0'));
+  io::TumDataset ds(tmp.path().string());
+  const auto msg = test::inputErrorOf([&] { ds.load(1); });
+  EXPECT_NE(msg.find("101.000000.jpg' is a truncated JPEG"), std::string::npos) << msg;
+  const cv::Mat padded = ds.load(2).bgr;
+  ASSERT_EQ(padded.size(), noise.size());
+  EXPECT_EQ(cv::norm(padded, cv::imdecode(jpeg, cv::IMREAD_COLOR), cv::NORM_INF), 0.0);
+}
+
 TEST(TumDataset, WrongDepthType) {
   TempDir tmp;
   makeDataset(tmp.path());
