@@ -131,7 +131,10 @@ class SlamSystem {
     io::RgbdImages images;
     std::shared_ptr<data::FrameFeatures> features;
     std::unique_ptr<feature::OrbDetections> detections;  ///< kept for the refill (dynamic modes)
-    double prepare_ms = 0;  ///< feature extraction and this frame's box work (flow, late detections)
+    /// Feature extraction and this frame's box work (flow, late detections; with lookahead the wait
+    /// for the detection before, to start the next one).
+    double prepare_ms = 0;
+    double orb_ms = 0;      ///< feature extraction alone (prepare_ms less the box work and its waits)
     double wait_ms = 0;     ///< waiting for a synchronous detection
     int late_culled = 0;
     std::optional<std::vector<dynamic::Detection>> boxes;  ///< lookahead: once final
