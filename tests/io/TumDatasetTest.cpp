@@ -95,8 +95,9 @@ TEST(TumDataset, UnreadableImageNamesTheFile) {
 }
 
 // A JPEG cut short decodes with grey rows and only a libjpeg warning: it must be refused as such,
-// while one padded after its end-of-image marker (some writers do) is read.
-TEST(TumDataset, ATruncatedJpegIsRefusedAndAPaddedOneRead) {
+// also when a thumbnail in its header has an end marker of its own, while one with data appended
+// after its end marker (some cameras do) is read.
+TEST(TumDataset, ATruncatedJpegIsRefusedAndOneWithATrailerRead) {
   TempDir tmp;
   makeDataset(tmp.path());
   cv::Mat noise(48, 64, CV_8UC3);
@@ -104,14 +105,20 @@ TEST(TumDataset, ATruncatedJpegIsRefusedAndAPaddedOneRead) {
   std::vector<uchar> jpeg;
   cv::imencode(".jpg", noise, jpeg);
   const std::string whole(jpeg.begin(), jpeg.end());
+  const std::string thumbnail = "\xFF\xD8 a thumbnail \xFF\xD9";
+  const std::string app1 = std::string("\xFF\xE1") + '\0' + char(2 + thumbnail.size()) + thumbnail;
+  const std::string with_thumbnail = whole.substr(0, 2) + app1 + whole.substr(2);
+  writeText(tmp.path() / "rgb" / "100.000000.jpg", with_thumbnail.substr(0, with_thumbnail.size() - 200));
   writeText(tmp.path() / "rgb" / "101.000000.jpg", whole.substr(0, whole.size() / 2));
-  writeText(tmp.path() / "rgb" / "102.000000.jpg", whole + std::string(100, '\0'));
+  writeText(tmp.path() / "rgb" / "102.000000.jpg", with_thumbnail + std::string(3000, 'x'));
   io::TumDataset ds(tmp.path().string());
-  const auto msg = test::inputErrorOf([&] { ds.load(1); });
-  EXPECT_NE(msg.find("101.000000.jpg' is a truncated JPEG"), std::string::npos) << msg;
-  const cv::Mat padded = ds.load(2).bgr;
-  ASSERT_EQ(padded.size(), noise.size());
-  EXPECT_EQ(cv::norm(padded, cv::imdecode(jpeg, cv::IMREAD_COLOR), cv::NORM_INF), 0.0);
+  for (int i : {0, 1}) {
+    const auto msg = test::inputErrorOf([&] { ds.load(i); });
+    EXPECT_NE(msg.find(fmt::format("10{}.000000.jpg' is a truncated JPEG", i)), std::string::npos) << msg;
+  }
+  const cv::Mat read = ds.load(2).bgr;
+  ASSERT_EQ(read.size(), noise.size());
+  EXPECT_EQ(cv::norm(read, cv::imdecode(jpeg, cv::IMREAD_COLOR), cv::NORM_INF), 0.0);
 }
 
 TEST(TumDataset, WrongDepthType) {

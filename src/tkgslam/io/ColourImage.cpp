@@ -15,14 +15,29 @@ namespace tkgslam::io {
 namespace {
 
 /// A JPEG cut short (a copy or download that stopped) still decodes: libjpeg fills the missing rows
-/// with grey and only warns on stderr, and SLAM would track a half-grey frame. Such a file lacks the
-/// end-of-image marker FF D9, which entropy-coded data cannot contain (an FF there is followed by 00
-/// or a restart code). Some writers pad after the marker, so it is looked for in the last KiB.
+/// with grey and only warns on stderr, and SLAM would track a half-grey frame. Such a file has no
+/// end-of-image marker (FF D9) after its first scan. The header segments before that scan are
+/// stepped over by their lengths (an EXIF thumbnail there has a marker of its own); the scan data
+/// cannot hold the pair (an FF in it is followed by 00 or a restart code). Data some cameras append
+/// after the marker does not matter. What is not laid out like that is left to the decoder.
 bool isTruncatedJpeg(const std::vector<uchar>& bytes) {
-  if (bytes.size() < 4 || bytes[0] != 0xFF || bytes[1] != 0xD8) return false;
-  const std::size_t first = bytes.size() > 1024 ? bytes.size() - 1024 : 2;
-  for (std::size_t i = bytes.size() - 1; i > first; --i) {
-    if (bytes[i - 1] == 0xFF && bytes[i] == 0xD9) return false;
+  const std::size_t n = bytes.size();
+  if (n < 4 || bytes[0] != 0xFF || bytes[1] != 0xD8) return false;
+  std::size_t i = 2;
+  for (;;) {
+    if (i + 4 > n) return false;  // cut within the headers: the decoder refuses it
+    if (bytes[i] != 0xFF) return false;
+    const uchar marker = bytes[i + 1];
+    if (marker == 0xFF) {  // fill byte
+      ++i;
+      continue;
+    }
+    if (marker == 0xD9) return false;
+    i += 2 + ((std::size_t(bytes[i + 2]) << 8) | bytes[i + 3]);
+    if (marker == 0xDA) break;  // start of the first scan
+  }
+  for (; i + 1 < n; ++i) {
+    if (bytes[i] == 0xFF && bytes[i + 1] == 0xD9) return false;
   }
   return true;
 }
