@@ -167,10 +167,10 @@ SlamSystem::PreparedFrame SlamSystem::prepare(const io::RgbdImages& images) {
     boxes_->beginFrame(f.index, images.bgr, images.depth_m, images.gray);
     if (config_.dynamic.late_culling) f.late_culled = cullLateDynamicPoints(boxes_->takeLateBoxes(), images.bgr.size());
   }
-  // Dynamic modes keep the pyramid and FAST corners: boxes over much of the image get the
-  // keypoints redistributed outside them from these (filterDynamic).
   // Timed on its own: beginFrame may wait for the detector (lookahead), which is detector_wait.
   const auto t_orb = std::chrono::steady_clock::now();
+  // Dynamic modes keep the pyramid and FAST corners: boxes over much of the image get the
+  // keypoints redistributed outside them from these (filterDynamic).
   if (boxes_ && config_.dynamic.refill_ratio > 0) f.detections = std::make_unique<feature::OrbDetections>();
   auto orb = extractor_.extract(images.gray, {}, f.detections.get());
   f.features = data::makeFrameFeatures(std::move(orb), images.bgr, images.depth_m, camera_, config_.depth);
