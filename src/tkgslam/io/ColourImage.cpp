@@ -51,7 +51,9 @@ cv::Mat readColourImage(const std::string& path, const std::string& what) {
   if (isTruncatedJpeg(bytes)) {
     throw InputError(fmt::format("{} '{}' is a truncated JPEG (its end-of-image marker is missing)", what, path));
   }
-  cv::Mat image = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
+  // Any depth (a 16-bit image is refused below, not scaled down) and colour, turned as an EXIF
+  // orientation tag says (phone photos are stored sideways); IMREAD_UNCHANGED would not turn them.
+  cv::Mat image = cv::imdecode(bytes, cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);
   if (image.empty()) throw InputError(fmt::format("cannot read {} '{}'", what, path));
   if (image.depth() != CV_8U) {
     throw InputError(
