@@ -58,6 +58,13 @@ inline std::string readFile(const std::filesystem::path& p) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
+/// `jpeg` (a whole file) with an APP1 segment holding `payload` (under 64 KiB) after its start marker:
+/// where EXIF data and thumbnails go.
+inline std::string withApp1Segment(const std::string& jpeg, const std::string& payload) {
+  const std::size_t length = payload.size() + 2;  // the length field counts itself
+  return jpeg.substr(0, 2) + "\xFF\xE1" + char(length >> 8) + char(length & 0xFF) + payload + jpeg.substr(2);
+}
+
 inline void writeText(const std::filesystem::path& p, const std::string& text) {
   std::filesystem::create_directories(p.parent_path());
   std::ofstream(p) << text;

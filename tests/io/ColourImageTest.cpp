@@ -12,17 +12,14 @@
 namespace tkgslam {
 namespace {
 
-// A JPEG with an EXIF orientation tag in an APP1 segment after its start marker.
+// A JPEG with an EXIF orientation tag.
 std::string withExifOrientation(const std::vector<uchar>& jpeg, int orientation) {
   const std::string tiff = std::string("II*\0\x08\0\0\0", 8) +          // little-endian, first IFD at 8
                            std::string("\x01\0", 2) +                    // one entry:
                            std::string("\x12\x01\x03\0\x01\0\0\0", 8) +  // orientation, SHORT, count 1
                            char(orientation) + std::string(3, '\0') +   // its value
                            std::string(4, '\0');                         // no next IFD
-  const std::string exif = std::string("Exif\0\0", 6) + tiff;
-  const std::string app1 = std::string("\xFF\xE1", 2) + char((exif.size() + 2) >> 8) + char(exif.size() + 2) + exif;
-  const std::string whole(jpeg.begin(), jpeg.end());
-  return whole.substr(0, 2) + app1 + whole.substr(2);
+  return test::withApp1Segment(std::string(jpeg.begin(), jpeg.end()), std::string("Exif\0\0", 6) + tiff);
 }
 
 // A phone photo is stored sideways with a tag saying how to turn it: `detect` and `augment`'s people

@@ -105,9 +105,7 @@ TEST(TumDataset, ATruncatedJpegIsRefusedAndOneWithATrailerRead) {
   std::vector<uchar> jpeg;
   cv::imencode(".jpg", noise, jpeg);
   const std::string whole(jpeg.begin(), jpeg.end());
-  const std::string thumbnail = "\xFF\xD8 a thumbnail \xFF\xD9";
-  const std::string app1 = std::string("\xFF\xE1") + '\0' + char(2 + thumbnail.size()) + thumbnail;
-  const std::string with_thumbnail = whole.substr(0, 2) + app1 + whole.substr(2);
+  const std::string with_thumbnail = test::withApp1Segment(whole, "\xFF\xD8 a thumbnail \xFF\xD9");
   writeText(tmp.path() / "rgb" / "100.000000.jpg", with_thumbnail.substr(0, with_thumbnail.size() - 200));
   writeText(tmp.path() / "rgb" / "101.000000.jpg", whole.substr(0, whole.size() / 2));
   writeText(tmp.path() / "rgb" / "102.000000.jpg", with_thumbnail + std::string(3000, 'x'));

@@ -36,8 +36,10 @@ bool isTruncatedJpeg(const std::vector<uchar>& bytes) {
     i += 2 + ((std::size_t(bytes[i + 2]) << 8) | bytes[i + 3]);
     if (marker == 0xDA) break;  // start of the first scan
   }
-  for (; i + 1 < n; ++i) {
-    if (bytes[i] == 0xFF && bytes[i + 1] == 0xD9) return false;
+  // From the end back: a whole file has the marker at its end or before a short trailer, so a
+  // frame's check reads a few bytes, not its whole scan.
+  for (std::size_t j = n - 1; j > i; --j) {
+    if (bytes[j - 1] == 0xFF && bytes[j] == 0xD9) return false;
   }
   return true;
 }
